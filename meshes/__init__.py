@@ -1,0 +1,1 @@
+"""Meshes for fabric specimens: strips, rectangles, Cusick annuli and imported meshes."""
