@@ -1,0 +1,5 @@
+"""Headless plotting also for the doctests collected from the packages."""
+import os
+
+os.environ.setdefault("MPLBACKEND", "Agg")
+os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")

@@ -1,0 +1,404 @@
+"""Fabric materials: warp/weft bending laws plus what a shell needs, from TOML files.
+
+A :class:`FabricMaterial` holds, in SI, the areal mass, thickness, the warp
+(κ_11) and weft (κ_22) :class:`~constitutive.law.BendingLaw`, the linear twist
+rigidity and the membrane stiffness.  Material files are TOML in KES units
+(gf, cm, s) and are converted once, here, by :mod:`constitutive.units`.
+
+Defaults (documented, overridable in the file):
+
+* twist rigidity ``D_t = sqrt(k1_warp · k1_weft)``: the value an isotropic
+  plate with ν = 0 would have in the energy ``½B1κ11² + ½B2κ22² + D_t κ12²``
+  (CONVENTIONS.md); fabrics have one, the thesis omitted it.
+* membrane (woven fabric: stiff along the yarns, soft in shear; KES gives no
+  direct in-plane stiffness): ``E11 = E22 = 1.0e4 N/m``, ``ν12 = 0``,
+  ``G12 = 50 N/m``.  Given in N/m in the ``[membrane]`` table.
+
+Building a material from KES summary values only (:func:`material_from_kes`)
+— most labs have just B, 2HB per direction and the weight.  Assumptions:
+
+* ``k3 = 0`` and symmetric face-up/face-down: B is one slope.
+* ``d = 0``, ``m = 0``: at the single KES rate the width of the loop cannot
+  be split into viscous and frictional parts (2HB ≈ 2 M_f + 2 d v); we give it
+  all to rate-independent friction, which is what holds residual curvature
+  in quasi-static drape.
+* Friction is first order (Dahl): ``f2 = 0``, no static peak (the summary
+  values carry no information on one), with the short length
+  ``a1 = ε_f η = 0.1 cm⁻¹`` (defaults ε_f = 0.2 cm⁻¹, η = 0.5): the moment
+  is within 5 % of its sliding value 0.3 cm⁻¹ after a reversal, so the loop
+  is nearly a parallelogram of width 2 f1 as in a KES chart.
+* ``k1`` and ``f1`` are then chosen so that the simulated KES-FB loop
+  (:func:`constitutive.kes.run_kes` on the standard ±2.5 cm⁻¹ profile,
+  :func:`constitutive.kes.kes_values`) returns the given B and 2HB.  Both
+  are linear in (k1, f1), so this is one 2×2 solve, exact to round-off.
+
+>>> mat = load_material("fabric1")
+>>> mat.name, round(mat.areal_mass, 4), round(mat.warp.k1, 11)
+('fabric1', 0.1715, 6.2566e-07)
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from constitutive.friction import FrictionParams, ParameterError, friction_path
+from constitutive.kes import KesValues, kes_profile, kes_values, run_kes
+from constitutive.law import BendingLaw
+from constitutive.units import to_si
+
+__all__ = ["MaterialError", "FabricMaterial", "load_material", "material_from_kes", "MATERIALS_DIR",
+           "DEFAULT_MEMBRANE", "available_materials"]
+
+MATERIALS_DIR = Path(__file__).resolve().parents[1] / "cases" / "materials"
+
+#: Membrane defaults (N/m): woven fabric, nearly inextensible along yarns, soft in shear.
+DEFAULT_MEMBRANE = {"E11": 1.0e4, "E22": 1.0e4, "nu12": 0.0, "G12": 50.0}
+
+
+class MaterialError(ValueError):
+    """A material file or value breaks a rule (the message names the key and the rule)."""
+
+
+@dataclass(frozen=True, eq=False)
+class FabricMaterial:
+    """A fabric for the plate/shell models, all SI.
+
+    Parameters
+    ----------
+    name : str
+    areal_mass : float
+        ρ_A [kg/m²] (KES weight gf/cm² × 10).
+    thickness : float or None
+        [m] (for output and contact only; bending comes from the laws).
+    warp, weft : BendingLaw
+        Laws for κ_11 (warp, x) and κ_22 (weft, y).
+    twist_rigidity : float or None
+        D_t [N·m]; ``None`` → ``sqrt(k1_warp k1_weft)``.
+    E11, E22, G12 : float
+        Membrane stiffnesses [N/m]; ``nu12`` Poisson's ratio.
+    kes : dict or None
+        KES summary values if known (SI): ``B_warp, B_weft, HB2_warp, HB2_weft``.
+
+    Examples
+    --------
+    >>> m = FabricMaterial("demo", 0.2, None, BendingLaw(k1=4e-6), BendingLaw(k1=1e-6))
+    >>> m.twist_rigidity, m.G12
+    (2e-06, 50.0)
+    """
+
+    name: str
+    areal_mass: float
+    thickness: float | None
+    warp: BendingLaw
+    weft: BendingLaw
+    twist_rigidity: float | None = None
+    E11: float = DEFAULT_MEMBRANE["E11"]
+    E22: float = DEFAULT_MEMBRANE["E22"]
+    nu12: float = DEFAULT_MEMBRANE["nu12"]
+    G12: float = DEFAULT_MEMBRANE["G12"]
+    kes: dict | None = None
+    description: str = ""
+    source: str = ""
+    _twist_default: bool = field(default=False, init=False, repr=False)
+
+    def __post_init__(self):
+        def need(key, ok, rule):
+            if not ok:
+                raise MaterialError(f"{self.name}: {key} = {getattr(self, key)!r} breaks {rule}")
+        need("areal_mass", self.areal_mass > 0, "areal_mass > 0")
+        need("thickness", self.thickness is None or self.thickness > 0, "thickness > 0")
+        for key in ("warp", "weft"):
+            need(key, isinstance(getattr(self, key), BendingLaw), "must be a BendingLaw")
+            need(key, np.ndim(getattr(self, key).k1) == 0, "scalar law parameters (one material)")
+        if self.twist_rigidity is None:
+            object.__setattr__(self, "twist_rigidity", math.sqrt(self.warp.k1 * self.weft.k1))
+            object.__setattr__(self, "_twist_default", True)
+        need("twist_rigidity", self.twist_rigidity > 0, "twist_rigidity > 0")
+        for key in ("E11", "E22", "G12"):
+            need(key, getattr(self, key) > 0, f"{key} > 0")
+        need("nu12", 0 <= self.nu12 and self.nu12**2 * self.E22 / self.E11 < 1,
+             "0 <= nu12 and nu12² E22/E11 < 1 (positive definite membrane stiffness)")
+
+    @property
+    def laws(self):
+        """``(warp, weft)``: the laws for κ_11 and κ_22."""
+        return self.warp, self.weft
+
+    def simulated_kes(self, **profile_kw) -> dict:
+        """B and 2HB of each direction from a simulated KES-FB test (SI)."""
+        prof = kes_profile(**profile_kw)
+        out = {}
+        for key, law in (("warp", self.warp), ("weft", self.weft)):
+            loop = run_kes(law, prof)
+            out[key] = kes_values(loop.kappa, loop.moment)
+        return out
+
+    def replace(self, **changes) -> "FabricMaterial":
+        """Copy with some fields changed (SI values), validated again."""
+        if self._twist_default:          # a defaulted twist rigidity follows new laws
+            changes.setdefault("twist_rigidity", None)
+        return dataclasses.replace(self, **changes)
+
+
+# ---------------------------------------------------------------- from KES summary values
+
+def _calibrate(B, HB2, eps_f, eta, profile):
+    """(k1, friction) such that the simulated loop has slope B and width HB2."""
+    if not B > 0:
+        raise MaterialError(f"B = {B!r} breaks B > 0")
+    if not HB2 >= 0:
+        raise MaterialError(f"2HB = {HB2!r} breaks 2HB >= 0")
+    if HB2 == 0:
+        return B, None
+    unit = FrictionParams(f1=1.0, f2=0.0, eps_f=eps_f, eta=eta)
+    s_f, w_f = kes_values(profile.kappa, friction_path(unit, profile.kappa))
+    f1 = HB2 / w_f
+    k1 = B - f1 * s_f
+    if not k1 > 0:
+        raise MaterialError(f"2HB = {HB2:g} N is too large for B = {B:g} N·m with eps_f = {eps_f:g} 1/m: "
+                            "the friction alone would exceed the slope (k1 > 0 breaks)")
+    return k1, FrictionParams(f1=f1, f2=0.0, eps_f=eps_f, eta=eta)
+
+
+def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thickness=None, *,
+                      eps_f=20.0, eta=0.5, accel_time=None, twist_rigidity=None, description="",
+                      source="", **membrane) -> FabricMaterial:
+    """Build a material from KES summary values only (all arguments SI).
+
+    Parameters
+    ----------
+    name : str
+    B_warp, B_weft : float
+        Bending rigidity B [N·m] (KES gf·cm²/cm × 9.80665e-5).
+    HB2_warp, HB2_weft : float
+        Hysteresis width 2HB [N·m/m] (KES gf·cm/cm × 9.80665e-3).
+    areal_mass : float
+        [kg/m²] (KES weight gf/cm² × 10).
+    thickness : float, optional
+        [m].
+    eps_f, eta : float
+        Friction lengths: a1 = eps_f·eta [1/m] (default 0.1 cm⁻¹), f2 = 0.
+    accel_time : float, optional
+        T of the KES profile used for the calibration (default
+        :data:`constitutive.kes.DEFAULT_ACCEL_TIME`).
+    twist_rigidity : float, optional
+        [N·m], default sqrt(k1_warp k1_weft).
+    **membrane
+        E11, E22, nu12, G12 [N/m].
+
+    Returns
+    -------
+    FabricMaterial
+        With ``kes`` holding the given values; see the module docstring for
+        the assumptions.
+
+    Examples
+    --------
+    >>> from constitutive.units import to_si
+    >>> m = material_from_kes("x", to_si(0.08, "B"), to_si(0.06, "B"), to_si(0.04, "HB2"),
+    ...                       to_si(0.03, "HB2"), areal_mass=to_si(0.015, "weight"))
+    >>> v = m.simulated_kes()["warp"]
+    >>> round(v.B / to_si(0.08, "B"), 6), round(v.HB2 / to_si(0.04, "HB2"), 6)
+    (1.0, 1.0)
+    """
+    kw = {} if accel_time is None else {"accel_time": accel_time}
+    prof = kes_profile(**kw)
+    laws = {}
+    for key, B, HB2 in (("warp", B_warp, HB2_warp), ("weft", B_weft, HB2_weft)):
+        try:
+            k1, fr = _calibrate(float(B), float(HB2), eps_f, eta, prof)
+        except (MaterialError, ParameterError) as err:
+            raise MaterialError(f"{name}: {key}: {err}") from None
+        laws[key] = BendingLaw(k1=k1, friction=fr)
+    unknown = set(membrane) - set(DEFAULT_MEMBRANE)
+    if unknown:
+        raise MaterialError(f"{name}: unknown membrane key(s) {sorted(unknown)}; known: {sorted(DEFAULT_MEMBRANE)}")
+    return FabricMaterial(name=name, areal_mass=float(areal_mass), thickness=thickness, warp=laws["warp"],
+                          weft=laws["weft"], twist_rigidity=twist_rigidity,
+                          kes={"B_warp": B_warp, "B_weft": B_weft, "HB2_warp": HB2_warp, "HB2_weft": HB2_weft},
+                          description=description, source=source, **membrane)
+
+
+# ---------------------------------------------------------------- TOML schema (KES units)
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", strict=True)
+
+
+class LawSpec(_Strict):
+    """A ``[warp]`` or ``[weft]`` table (KES units)."""
+
+    k1: float = Field(gt=0, description="gf·cm²/cm")
+    k3: float = Field(0.0, ge=0, description="gf·cm⁴/cm")
+    d: float = Field(0.0, ge=0, description="gf·cm²·s/cm")
+    m: float = Field(0.0, ge=0, description="gf·cm²·s²/cm")
+    k1_neg: float | None = Field(None, gt=0, description="gf·cm²/cm, face-down (κ < 0)")
+    k3_neg: float | None = Field(None, ge=0, description="gf·cm⁴/cm, face-down (κ < 0)")
+    f1: float | None = Field(None, description="gf·cm/cm")
+    f2: float | None = Field(None, description="gf·cm/cm")
+    eps_f: float | None = Field(None, description="cm⁻¹")
+    eta: float | None = Field(None, description="1")
+
+    @model_validator(mode="after")
+    def _friction_all_or_none(self):
+        given = [k for k in ("f1", "f2", "eps_f", "eta") if getattr(self, k) is not None]
+        if given and len(given) < 4:
+            missing = sorted({"f1", "f2", "eps_f", "eta"} - set(given))
+            raise ValueError(f"friction needs all of f1, f2, eps_f, eta (missing {', '.join(missing)})")
+        if given:   # 3.18–3.19 are scale-free: check them in the file's units so the message shows its values
+            try:
+                FrictionParams(self.f1, self.f2, self.eps_f, self.eta)
+            except ParameterError as err:
+                raise ValueError(str(err)) from None
+        return self
+
+    def to_law(self) -> BendingLaw:
+        si = {k: to_si(v, k) for k, v in self.model_dump().items() if v is not None}
+        fric = None
+        if "f1" in si:
+            fric = FrictionParams(*(si.pop(k) for k in ("f1", "f2", "eps_f", "eta")))
+        return BendingLaw(friction=fric, **si)
+
+
+class KesSpec(_Strict):
+    """A ``[kes]`` table of summary values (KES units)."""
+
+    B_warp: float = Field(gt=0, description="gf·cm²/cm")
+    B_weft: float = Field(gt=0, description="gf·cm²/cm")
+    HB2_warp: float = Field(ge=0, description="gf·cm/cm")
+    HB2_weft: float = Field(ge=0, description="gf·cm/cm")
+    eps_f: float = Field(0.2, gt=0, description="cm⁻¹, friction length for material_from_kes")
+    eta: float = Field(0.5, gt=0, lt=1, description="a1 = eps_f·eta")
+    accel_time: float | None = Field(None, gt=0, description="s")
+
+
+class MembraneSpec(_Strict):
+    """A ``[membrane]`` table (N/m; KES has no direct in-plane stiffness)."""
+
+    E11: float = Field(DEFAULT_MEMBRANE["E11"], gt=0)
+    E22: float = Field(DEFAULT_MEMBRANE["E22"], gt=0)
+    nu12: float = Field(DEFAULT_MEMBRANE["nu12"], ge=0, lt=1)
+    G12: float = Field(DEFAULT_MEMBRANE["G12"], gt=0)
+
+
+class MaterialSpec(_Strict):
+    """A material file: either ``[warp]`` and ``[weft]``, or ``[kes]`` (or all three)."""
+
+    name: str
+    description: str = ""
+    source: str = ""
+    weight: float = Field(gt=0, description="gf/cm²")
+    thickness: float | None = Field(None, gt=0, description="cm")
+    twist_rigidity: float | None = Field(None, gt=0, description="gf·cm²/cm")
+    warp: LawSpec | None = None
+    weft: LawSpec | None = None
+    kes: KesSpec | None = None
+    membrane: MembraneSpec = MembraneSpec()
+
+    @model_validator(mode="after")
+    def _laws_or_kes(self):
+        if (self.warp is None) != (self.weft is None):
+            raise ValueError("give both [warp] and [weft], or neither (then [kes])")
+        if self.warp is None and self.kes is None:
+            raise ValueError("needs [warp] and [weft] law tables or a [kes] table of summary values")
+        return self
+
+
+def _format_validation(err: ValidationError, where: str) -> str:
+    lines = []
+    for e in err.errors():
+        key = ".".join(str(x) for x in e["loc"]) or "(file)"
+        msg = e["msg"].removeprefix("Value error, ")
+        if e["type"] == "extra_forbidden":
+            msg = "unknown key (not part of the material schema)"
+        shown = f" = {e['input']!r}" if e["type"] not in ("missing", "extra_forbidden") and \
+            not isinstance(e["input"], dict) else ""
+        lines.append(f"{where}: {key}{shown}: {msg}")
+    return "\n".join(lines)
+
+
+def available_materials() -> list[str]:
+    """Names of the bundled materials (``cases/materials/*.toml``)."""
+    return sorted(p.stem for p in MATERIALS_DIR.glob("*.toml"))
+
+
+def _resolve(name_or_path) -> Path:
+    p = Path(name_or_path)
+    if p.suffix == ".toml" or p.exists() or len(p.parts) > 1:
+        if not p.is_file():
+            raise MaterialError(f"material file {p} does not exist")
+        return p
+    p = MATERIALS_DIR / f"{name_or_path}.toml"
+    if not p.is_file():
+        raise MaterialError(f"unknown material {name_or_path!r}; bundled: {', '.join(available_materials())} "
+                            "(or give a path to a .toml file)")
+    return p
+
+
+def material_from_spec(spec: MaterialSpec, where: str = "material") -> FabricMaterial:
+    """Build a :class:`FabricMaterial` from a validated spec (KES units → SI)."""
+    common = dict(areal_mass=to_si(spec.weight, "weight"),
+                  thickness=None if spec.thickness is None else to_si(spec.thickness, "thickness"),
+                  twist_rigidity=None if spec.twist_rigidity is None else to_si(spec.twist_rigidity, "B"),
+                  description=spec.description, source=spec.source, **spec.membrane.model_dump())
+    kes_si = None
+    if spec.kes is not None:
+        k = spec.kes
+        kes_si = {"B_warp": to_si(k.B_warp, "B"), "B_weft": to_si(k.B_weft, "B"),
+                  "HB2_warp": to_si(k.HB2_warp, "HB2"), "HB2_weft": to_si(k.HB2_weft, "HB2")}
+    try:
+        if spec.warp is None:
+            return material_from_kes(spec.name, **kes_si, eps_f=to_si(spec.kes.eps_f, "eps_f"),
+                                     eta=spec.kes.eta, accel_time=spec.kes.accel_time, **common)
+        laws = {}
+        for key in ("warp", "weft"):
+            try:
+                laws[key] = getattr(spec, key).to_law()
+            except ParameterError as err:
+                raise MaterialError(f"{key}.{err}") from None
+        return FabricMaterial(name=spec.name, warp=laws["warp"], weft=laws["weft"], kes=kes_si, **common)
+    except MaterialError as err:
+        raise MaterialError(f"{where}: {err}") from None
+
+
+def load_material(name_or_path) -> FabricMaterial:
+    """Read a material TOML (KES units) and return it in SI.
+
+    Parameters
+    ----------
+    name_or_path : str or Path
+        A bundled name (``"fabric1"``, ``"fabric2"``, ``"kes_example"``; see
+        :func:`available_materials`) or the path of a ``.toml`` file.
+
+    Raises
+    ------
+    MaterialError
+        Unknown name, TOML syntax error, unknown key, wrong type or a broken
+        rule — the message names the file, the key and the rule.
+
+    Examples
+    --------
+    >>> load_material("kes_example").warp.friction.f2
+    0.0
+    >>> load_material("no-such-fabric")
+    Traceback (most recent call last):
+    ...
+    constitutive.material.MaterialError: unknown material 'no-such-fabric'; bundled: fabric1, fabric2, kes_example (or give a path to a .toml file)
+    """
+    path = _resolve(name_or_path)
+    try:
+        data = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as err:
+        raise MaterialError(f"{path.name}: TOML syntax error: {err}") from None
+    try:
+        spec = MaterialSpec.model_validate(data)
+    except ValidationError as err:
+        raise MaterialError(_format_validation(err, path.name)) from None
+    return material_from_spec(spec, path.name)
+
