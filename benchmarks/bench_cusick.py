@@ -1,0 +1,217 @@
+"""Cusick drape benchmark: the studies issue 5 asks for, run through the case runner.
+
+Studies (each a set of runs of cases/cusick_*.toml with dotted overrides):
+
+* ``fabrics``      Fabric 1, Fabric 2 and the KES-only material (cases/cusick_*.toml as they are):
+                   DC, nodes, node depths, settling time, wall time.
+* ``friction``     Fabric 1 with and without the dry-friction (hysteresis) moment.
+* ``sweep``        five elastic materials (Fabric 1 with friction, viscosity and k3 removed,
+                   k1 set so the bending length c = (k1/(rho_A g))^(1/3) is 0.5 ... 3 cm)
+                   plus one stiff material with c >= overhang: DC must fall monotonically as
+                   k1 falls, and the stiff one must stay near 100 %.
+* ``convergence``  Fabric 1 on the default mesh (4 x 48), on 6 x 72 (x1.5) and on one uniform
+                   refinement (mesh.refine = 1, 8 x 96; long): DC change (points) and node counts.
+                   ``--only fabric1_refine0 fabric1_x1.5`` for the affordable pair.
+
+Usage::
+
+    python benchmarks/bench_cusick.py --study fabrics --out out/bench_cusick
+    python benchmarks/bench_cusick.py --study all --jobs 2        (long: several runs of minutes)
+
+Every run writes its own directory (VTU series, summary.json, top-view PNG); the script prints a
+table and writes ``results.json`` and, for the sweep, ``dc_vs_bending_length.png``.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+G = 9.80665
+
+
+def _run(args):
+    """Run one case with overrides in a fresh process; return a compact record."""
+    label, case_file, overrides, out = args
+    sys.path.insert(0, str(ROOT))
+    from drape.case import load_case
+    from drape.run import run_case
+
+    case = load_case(ROOT / case_file, overrides)
+    t0 = time.perf_counter()
+    try:
+        s = run_case(case, out, quiet=True)
+    except Exception as err:  # noqa: BLE001 - report and go on with the other runs
+        return dict(label=label, error=f"{type(err).__name__}: {err}", wall_s=time.perf_counter() - t0)
+    a = s.get("analysis", {})
+    return dict(label=label, case=case_file, overrides=overrides, status=s.get("status"),
+                reason=s.get("reason"), dc_percent=a.get("drape_coefficient_percent"),
+                n_nodes=a.get("n_nodes"), node_depths_mm=[1e3 * d for d in a.get("node_depths_m", [])],
+                settling_time_s=s.get("settling_time"), t_final_s=s.get("t_final"),
+                steps=s.get("steps"), wall_s=time.perf_counter() - t0, out=str(out))
+
+
+def _elastic(k1: float) -> list[str]:
+    """Fabric 1 turned into a purely elastic, isotropic-in-bending material of rigidity k1 [N m]."""
+    return ["material.friction=false", f"material.k1={k1!r}", "material.k3=0.0", "material.d=0.0"]
+
+
+def bending_length_rigidity(c: float, areal_mass: float) -> float:
+    """k1 [N m] giving the bending length c [m]: c = (k1 / (rho_A g))^(1/3)."""
+    return areal_mass * G * c**3
+
+
+def studies(which: list[str], extra: list[str]):
+    from constitutive.material import load_material
+
+    rho1 = load_material("fabric1").areal_mass
+    runs = []
+    if "fabrics" in which:
+        for name in ("cusick_fabric1", "cusick_fabric2", "cusick_kes"):
+            runs.append((name, f"cases/{name}.toml", list(extra)))
+    if "friction" in which:
+        runs.append(("fabric1_friction", "cases/cusick_fabric1.toml", list(extra)))
+        runs.append(("fabric1_no_friction", "cases/cusick_fabric1.toml",
+                     ["material.friction=false"] + extra))
+    if "sweep" in which:
+        for c_cm in (3.0, 2.0, 1.5, 1.0, 0.5):
+            k1 = bending_length_rigidity(c_cm / 100, rho1)
+            runs.append((f"sweep_c{c_cm:g}cm", "cases/cusick_fabric1.toml", _elastic(k1) + extra))
+        k1 = bending_length_rigidity(0.10, rho1)  # c = 10 cm > 6 cm overhang
+        runs.append(("stiff_c10cm", "cases/cusick_fabric1.toml", _elastic(k1) + extra))
+    if "convergence" in which:
+        runs.append(("fabric1_refine0", "cases/cusick_fabric1.toml", ["mesh.refine=0"] + extra))
+        runs.append(("fabric1_x1.5", "cases/cusick_fabric1.toml",
+                     ["mesh.n_radial=6", "mesh.n_circumferential=72"] + extra))
+        runs.append(("fabric1_refine1", "cases/cusick_fabric1.toml", ["mesh.refine=1"] + extra))
+    return runs
+
+
+def _table(records):
+    head = f"{'run':22s} {'status':9s} {'DC %':>6s} {'nodes':>5s} {'depth mm (mean)':>15s} " \
+           f"{'settle s':>8s} {'steps':>5s} {'wall s':>7s}"
+    lines = [head, "-" * len(head)]
+    for r in records:
+        if "error" in r:
+            lines.append(f"{r['label']:22s} ERROR {r['error']}")
+            continue
+        d = r["node_depths_mm"]
+        depth = f"{sum(d) / len(d):.1f}" if d else "-"
+        st = r["settling_time_s"]
+        lines.append(f"{r['label']:22s} {str(r['status']):9s} {r['dc_percent']:6.1f} {r['n_nodes']:5d} "
+                     f"{depth:>15s} {('%.2f' % st) if st is not None else '-':>8s} "
+                     f"{r['steps']:5d} {r['wall_s']:7.0f}")
+    return "\n".join(lines)
+
+
+def _checks(records):
+    by = {r["label"]: r for r in records if "error" not in r}
+    out = []
+    sweep = [by.get(f"sweep_c{c:g}cm") for c in (3.0, 2.0, 1.5, 1.0, 0.5)]
+    if all(sweep):
+        dcs = [r["dc_percent"] for r in sweep]
+        mono = all(a > b for a, b in zip(dcs, dcs[1:]))
+        out.append(f"sweep DC (c = 3, 2, 1.5, 1, 0.5 cm): {', '.join(f'{d:.1f}' for d in dcs)} % "
+                   f"-> monotonic decrease: {mono}")
+    if "stiff_c10cm" in by:
+        out.append(f"stiff (c = 10 cm >= 6 cm overhang): DC = {by['stiff_c10cm']['dc_percent']:.1f} %")
+    if "fabric1_friction" in by and "fabric1_no_friction" in by:
+        a, b = by["fabric1_friction"], by["fabric1_no_friction"]
+        out.append(f"friction: DC {a['dc_percent']:.2f} % vs friction-free {b['dc_percent']:.2f} % "
+                   f"(difference {a['dc_percent'] - b['dc_percent']:+.2f} points; nodes {a['n_nodes']} vs "
+                   f"{b['n_nodes']})")
+    for fine in ("fabric1_x1.5", "fabric1_refine1"):
+        if "fabric1_refine0" in by and fine in by:
+            a, b = by["fabric1_refine0"], by[fine]
+            out.append(f"convergence ({fine}): DC {a['dc_percent']:.2f} -> {b['dc_percent']:.2f} % "
+                       f"(|change| {abs(a['dc_percent'] - b['dc_percent']):.2f} points, rule < 2); "
+                       f"nodes {a['n_nodes']} -> {b['n_nodes']}")
+    return out
+
+
+def _plot_sweep(records, out_dir: Path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    pts = []
+    for r in records:
+        if r["label"].startswith(("sweep_c", "stiff_c")) and "error" not in r:
+            c = float(r["label"].split("_c")[1].removesuffix("cm"))
+            pts.append((c, r["dc_percent"]))
+    if not pts:
+        return None
+    pts.sort()
+    fig, ax = plt.subplots(figsize=(5, 3.5))
+    ax.plot(*zip(*pts), "o-")
+    ax.axvline(6.0, ls="--", color="0.5", label="overhang 6 cm")
+    ax.set_xlabel("bending length c [cm]")
+    ax.set_ylabel("drape coefficient [%]")
+    ax.set_ylim(0, 105)
+    ax.legend()
+    fig.tight_layout()
+    path = out_dir / "dc_vs_bending_length.png"
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--study", nargs="+", default=["fabrics"],
+                    choices=["fabrics", "friction", "sweep", "convergence", "all"],
+                    help="which studies to run (default: fabrics)")
+    ap.add_argument("--out", default="out/bench_cusick", help="output directory")
+    ap.add_argument("--jobs", type=int, default=1, help="runs in parallel (processes)")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="extra override for every run, e.g. --set solver.t_end=1.0")
+    ap.add_argument("--only", nargs="*", default=None, help="run only these labels")
+    args = ap.parse_args(argv)
+    which = ["fabrics", "friction", "sweep", "convergence"] if "all" in args.study else args.study
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    runs = studies(which, args.set)
+    if args.only:
+        runs = [r for r in runs if r[0] in args.only]
+    # a run shared by two studies (fabric 1 default) is run once
+    seen, todo = {}, []
+    for label, case, over in runs:
+        key = (case, tuple(o for o in over if o != "mesh.refine=0"))
+        if key in seen:
+            continue
+        seen[key] = label
+        todo.append((label, case, over, out / label))
+    print(f"{len(todo)} runs, {args.jobs} at a time, {os.cpu_count()} cpus", flush=True)
+    t0 = time.perf_counter()
+    if args.jobs > 1:
+        with ProcessPoolExecutor(args.jobs) as pool:
+            records = list(pool.map(_run, todo))
+    else:
+        records = [_run(t) for t in todo]
+    # duplicate records under the labels of the studies that share a run
+    labels = {r["label"]: r for r in records}
+    for label, case, over in runs:
+        key = (case, tuple(o for o in over if o != "mesh.refine=0"))
+        if label not in labels and seen[key] in labels:
+            labels[label] = {**labels[seen[key]], "label": label}
+    records = list(labels.values())
+    print(_table(records))
+    for line in _checks(records):
+        print(line)
+    fig = _plot_sweep(records, out)
+    if fig:
+        print(f"figure: {fig}")
+    (out / "results.json").write_text(json.dumps(records, indent=2))
+    print(f"total wall {time.perf_counter() - t0:.0f} s; results in {out / 'results.json'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

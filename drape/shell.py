@@ -1,0 +1,658 @@
+"""Large-rotation Kirchhoff–Love fabric: total-Lagrangian plate on a flat reference.
+
+The displacement ``u ∈ [Argyris]³`` (``skfem.ElementVector`` layout, global dof
+``3 s + k`` for scalar dof ``s`` and component ``k``) carries the fabric from
+the flat x–y reference to its deformed surface.  The strain energy per unit
+reference area is
+
+    W = ½ εᵀ C_m ε + W_b(κ11; warp law) + W_b(κ22; weft law) + D_t κ12²
+
+with ``ε`` the Green–Lagrange membrane strain and ``κ_αβ = s u_,αβ · n`` the
+curvature (:mod:`drape.kinematics`; ``s`` = :data:`CURVATURE_SIGN`, the same
+convention as the small-deflection plate).  The warp and weft bending moments come
+from the hysteretic law through ``BendingState.trial/commit`` at every
+quadrature point; twist is linear.  External loads: gravity ``−λ(t) ρ_A g e_z``,
+a force per unit length on an edge and a follower end moment per unit width.
+
+Assembly works on the basis arrays with batched ``einsum``/``matmul`` and a
+precomputed sparsity pattern (:class:`drape.assembly.SparsityPattern`), not on
+per-basis-pair form calls (DESIGN.md §4, trap d); K, C and M share one CSR
+pattern.
+
+Examples
+--------
+A clamped unit strip under a small edge load, solved with plain Newton:
+
+>>> import numpy as np
+>>> from skfem import MeshTri
+>>> from drape.shell import KirchhoffLoveShell, ElasticMaterial
+>>> mesh = MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 0.25, 2))
+>>> mesh = mesh.with_boundaries({"clamped": lambda x: x[0] < 1e-9,
+...                              "free": lambda x: x[0] > 1 - 1e-9})
+>>> mat = ElasticMaterial(bending=1.0, membrane=1e3, areal_mass=1.0)
+>>> shell = KirchhoffLoveShell(mesh, mat, gravity=0.0,
+...                            edge_load=lambda t: np.array([0.0, 0.0, 1e-3]))
+>>> u = np.zeros(shell.ndofs)
+>>> for _ in range(3):
+...     R, K, C, M = shell.residual(u, 0 * u, 0 * u, 1.0)
+...     u += shell.solve_linear(K, -R)
+>>> tip = shell.fields(u)["point_data"]["displacement"][:, 2].max()
+>>> bool(abs(tip - 1e-3 / 3) < 1e-6)    # P L³ / (3 B) with P per unit width
+True
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Optional, Sequence
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+from skfem import CellBasis, FacetBasis
+
+from constitutive.law import BendingLaw
+from drape.assembly import SparsityPattern
+from drape.kinematics import KLPoint, basis_arrays, gram
+from drape.plate import CURVATURE_SIGN as _PLATE_CURVATURE_SIGN
+
+#: Sign of the curvature fed to the laws and written out: ``κ_αβ = ±u_,αβ · n``.
+#: DESIGN.md §4 writes +; the small-deflection plate (CONVENTIONS.md) uses κ = −w_,xx,
+#: which is the − sign here. The shell takes the plate's constant so both models give
+#: the same κ (and the same face-up/face-down law branch) for the same bend: one switch,
+#: :data:`drape.plate.CURVATURE_SIGN`.
+CURVATURE_SIGN = float(_PLATE_CURVATURE_SIGN)
+
+#: Standard gravity [m/s²].
+G_STANDARD = 9.80665
+
+
+class ShellInputError(ValueError):
+    """Invalid input to the large-rotation shell model."""
+
+
+def _as_function(value, name):
+    """Constant or callable of time -> callable of time."""
+    if value is None:
+        return None
+    if callable(value):
+        return value
+    try:
+        const = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ShellInputError(f"{name} must be a number, an array or a callable of t")
+    return lambda t: const
+
+
+def default_element(mesh=None, clamped=()):
+    """Argyris element with element-local monomials and the node frames the clamps need.
+
+    (:func:`drape.boundary.argyris_element`; frames only where a clamped
+    boundary is not parallel to the axes, e.g. the Cusick disc.)
+    """
+    if mesh is None or not clamped:
+        from drape.argyris import ElementTriArgyrisLocal
+        return ElementTriArgyrisLocal()
+    from drape.boundary import argyris_element
+    return argyris_element(mesh, {name: "clamped" for name in clamped})
+
+
+@dataclass
+class ElasticMaterial:
+    """Isotropic linear-elastic stand-in material for verification problems.
+
+    Parameters
+    ----------
+    bending : float
+        Bending rigidity B [N·m], both directions; twist rigidity D_t = B
+        (the isotropic ν = 0 plate: W = ½B(κ11² + κ22²) + B κ12²).
+    membrane : float
+        Membrane stiffness E h [N/m] (ν = 0, shear stiffness E h / 2).
+    areal_mass : float
+        ρ_A [kg/m²].
+    """
+
+    bending: float
+    membrane: float
+    areal_mass: float = 0.0
+
+    def __post_init__(self):
+        for name in ("bending", "membrane"):
+            if not getattr(self, name) > 0:
+                raise ShellInputError(f"ElasticMaterial.{name} must be > 0, got {getattr(self, name)}")
+        if not self.areal_mass >= 0:
+            raise ShellInputError(f"ElasticMaterial.areal_mass must be >= 0, got {self.areal_mass}")
+
+
+def material_parts(material):
+    """Extract what the shell needs from a material object.
+
+    Returns
+    -------
+    dict with ``areal_mass`` [kg/m²], ``warp``/``weft`` laws, ``twist`` D_t [N·m]
+    and ``membrane`` (3, 3) Voigt stiffness [N/m].
+    """
+    if isinstance(material, ElasticMaterial):
+        Eh = material.membrane
+        law = BendingLaw(k1=material.bending)
+        return dict(areal_mass=material.areal_mass, warp=law, weft=law, twist=material.bending,
+                    membrane=np.diag([Eh, Eh, Eh / 2.0]))
+    try:
+        warp, weft = material.warp, material.weft
+        rho = float(material.areal_mass)
+    except AttributeError as err:
+        raise ShellInputError(f"material lacks {err}: need areal_mass, warp, weft") from None
+    twist = getattr(material, "twist_rigidity", None)
+    if twist is None:
+        twist = np.sqrt(warp.k1 * weft.k1)
+    return dict(areal_mass=rho, warp=warp, weft=weft, twist=float(twist),
+                membrane=membrane_matrix(material))
+
+
+def membrane_matrix(material):
+    """Orthotropic plane-stress membrane stiffness (Voigt, N/m) of a material.
+
+    Uses ``material.membrane_stiffness()`` if the material provides it, else the
+    attributes ``E11, E22, nu12, G12`` (N/m; FabricMaterial), else the project default
+    E1 = E2 = 1.0e4 N/m, ν12 = 0, G12 = 50 N/m (CONVENTIONS.md).
+
+    >>> membrane_matrix(object()).diagonal().tolist()
+    [10000.0, 10000.0, 50.0]
+    """
+    if hasattr(material, "membrane_stiffness"):
+        C = np.asarray(material.membrane_stiffness() if callable(material.membrane_stiffness)
+                       else material.membrane_stiffness, dtype=float)
+        if C.shape == (3, 3):
+            return C
+    def get(names, default):
+        for n in names:
+            value = getattr(material, n, None)
+            if value is not None:
+                return float(value)
+        return default
+
+    E1 = get(("E11", "E1"), 1.0e4)
+    E2 = get(("E22", "E2"), 1.0e4)
+    nu12 = get(("nu12",), 0.0)
+    G12 = get(("G12",), 50.0)
+    nu21 = nu12 * E2 / E1
+    den = 1.0 - nu12 * nu21
+    if den <= 0 or min(E1, E2, G12) <= 0:
+        raise ShellInputError("membrane stiffness must be positive definite "
+                              f"(E1={E1}, E2={E2}, nu12={nu12}, G12={G12})")
+    return np.array([[E1 / den, nu21 * E1 / den, 0.0],
+                     [nu12 * E2 / den, E2 / den, 0.0],
+                     [0.0, 0.0, G12]])
+
+
+class KirchhoffLoveShell:
+    """Total-Lagrangian Kirchhoff–Love fabric with hysteretic bending.
+
+    Parameters
+    ----------
+    mesh : skfem.MeshTri
+        Flat reference configuration (x–y plane, metres).
+    material : FabricMaterial or ElasticMaterial
+        Areal mass, warp/weft bending laws, twist rigidity, membrane stiffness.
+    clamped : sequence of str
+        Boundary names whose edges are clamped.
+    fixed_dofs : array_like, optional
+        Explicit homogeneous Dirichlet dofs (replaces ``clamped``).
+    element : skfem element, optional
+        Scalar C¹ element (default: :func:`drape.boundary.argyris_element` for the
+        clamps, an :class:`drape.argyris.ElementTriArgyrisLocal`).
+    gravity : float or callable
+        Load factor λ(t) on the self-weight ``−ρ_A g e_z``.
+    edge_load : callable, optional
+        ``t -> (3,)`` dead force per unit reference length [N/m] on ``load_boundary``.
+    end_moment : callable or float, optional
+        Follower moment per unit width [N] on ``load_boundary``; positive curls
+        the edge towards +z (face-up).
+    load_boundary : str
+        Boundary name for the edge load and the end moment.
+    rayleigh : (float, float)
+        ``C = α M + β K0`` with ``K0`` the tangent of the undeformed state.
+    intorder : int
+        Quadrature order (default 6).
+    g : float
+        Gravitational acceleration [m/s²].
+    chunk : int
+        Elements per batch in the assembly (bounds the memory of the
+        (element, point, 63, 63) work arrays).
+    """
+
+    def __init__(self, mesh, material, *, clamped: Sequence[str] = ("clamped",),
+                 fixed_dofs=None, element=None, gravity=1.0,
+                 edge_load: Optional[Callable] = None, end_moment=None,
+                 load_boundary: str = "free", rayleigh=(0.0, 0.0), intorder: int = 6,
+                 g: float = G_STANDARD, chunk: int = 512):
+        self.mesh = mesh
+        names = [clamped] if isinstance(clamped, str) else list(clamped)
+        bnd = mesh.boundaries or {}
+        for name in names:
+            if name not in bnd:
+                raise ShellInputError(f"clamped boundary '{name}' not in mesh.boundaries ({sorted(bnd)})")
+        self.element = default_element(mesh, names) if element is None else element
+        self.basis = CellBasis(mesh, self.element, intorder=intorder)
+        parts = material_parts(material)
+        self.material = material
+        self.rho_A = parts["areal_mass"]
+        self.warp_law, self.weft_law = parts["warp"], parts["weft"]
+        self.twist = parts["twist"]
+        self.C_m = parts["membrane"]
+        self.g = float(g)
+        self.gravity = _as_function(gravity, "gravity")
+        self.edge_load = _as_function(edge_load, "edge_load")
+        self.end_moment = _as_function(end_moment, "end_moment")
+        if len(rayleigh) != 2 or min(rayleigh) < 0:
+            raise ShellInputError(f"rayleigh must be (alpha >= 0, beta >= 0), got {rayleigh}")
+        self.rayleigh = tuple(float(r) for r in rayleigh)
+        self.chunk = int(chunk)
+
+        self.dN, self.HN, self.N = basis_arrays(self.basis)
+        # every curvature quantity is linear in HN: the sign convention is one factor
+        self.HN *= CURVATURE_SIGN
+        self.w = self.basis.dx
+        sdofs = self.basis.element_dofs.T                   # (E, nb)
+        self.nb = sdofs.shape[1]
+        self.edofs = (3 * sdofs[:, :, None] + np.arange(3)).reshape(len(sdofs), -1)
+        self.ndofs = 3 * self.basis.N
+        self.pattern = SparsityPattern(self.edofs.T, self.ndofs)
+
+        if fixed_dofs is not None:
+            self.fixed_dofs = np.unique(np.asarray(fixed_dofs, dtype=np.int64))
+        else:
+            self.fixed_dofs = self._clamped_dofs(names)
+
+        self._state_shape = self.w.shape
+        self.warp_state = self.warp_law.new_state(self._state_shape)
+        self.weft_state = self.weft_law.new_state(self._state_shape)
+
+        self._setup_edges(load_boundary)
+        self._M = self._mass()
+        self._f_gravity = self._gravity_vector()
+        zero = np.zeros(self.ndofs)
+        self.load_scale = 1.0
+        self._t_last = 0.0
+        self._K0 = self.linear_stiffness()
+        self._friction_work = self._damping_work = 0.0
+        self._u_committed, self._v_committed = zero.copy(), zero.copy()   # at rest
+        self._kappa_committed = np.zeros(self.w.shape + (3,))
+        self._Mf_committed = np.zeros(self.w.shape + (2,))
+        self._Md_committed = np.zeros(self.w.shape + (2,))
+
+    # ------------------------------------------------------------------ setup
+    def _clamped_dofs(self, names):
+        """Clamped dofs of all three components (drape.boundary: u_nn left free, trap c)."""
+        if not names:
+            return np.zeros(0, dtype=np.int64)
+        from drape.boundary import clamped_dofs
+        s = np.asarray(clamped_dofs(self.basis, names), dtype=np.int64)
+        return np.sort((3 * s[:, None] + np.arange(3)).ravel())
+
+    def _setup_edges(self, name):
+        self.edge = None
+        if self.edge_load is None and self.end_moment is None:
+            return
+        bnd = self.mesh.boundaries or {}
+        if name not in bnd:
+            raise ShellInputError(f"load_boundary '{name}' not in mesh.boundaries ({sorted(bnd)})")
+        fb = FacetBasis(self.mesh, self.element, facets=bnd[name],
+                        intorder=8)
+        fields = [fb.basis[i][0] for i in range(fb.Nbfun)]
+        N = np.stack([np.asarray(f) for f in fields], axis=-1)             # (F, q, nb)
+        dN = np.stack([np.moveaxis(f.grad, 0, -1) for f in fields], axis=-2)
+        nu = np.moveaxis(fb.normals, 0, -1)                        # (F, q, 2)
+        sd = fb.element_dofs.T
+        self.edge = dict(N=N, dNn=np.einsum("fqba,fqa->fqb", dN, nu), nu=nu, w=fb.dx,
+                         edofs=(3 * sd[:, :, None] + np.arange(3)).reshape(len(sd), -1))
+        self.edge_pattern = SparsityPattern(self.edge["edofs"].T, self.ndofs)
+        # edge element entries -> positions in the cell pattern's CSR data (edge dofs
+        # are dofs of the adjacent cell, so every pair is in the cell pattern)
+        p = self.pattern
+        rows = np.repeat(np.arange(self.ndofs, dtype=np.int64), np.diff(p.indptr))
+        keys = rows * self.ndofs + p.indices
+        ed = self.edge["edofs"].astype(np.int64)
+        ekeys = (ed[:, :, None] * self.ndofs + ed[:, None, :]).ravel()
+        pos = np.searchsorted(keys, ekeys)
+        assert np.array_equal(keys[pos], ekeys)
+        self._edge_scatter = pos
+
+    def _mass(self):
+        Me = np.einsum("eqb,eq,eqc->ebc", self.N, self.w, self.N, optimize=True)
+        Ke = np.einsum("ebc,kl->ebkcl", Me * self.rho_A, np.eye(3))
+        return self.pattern.matrix(Ke.reshape(len(Me), 3 * self.nb, 3 * self.nb))
+
+    def _gravity_vector(self):
+        fe = np.zeros((len(self.edofs), self.nb, 3))
+        fe[..., 2] = -self.rho_A * self.g * np.einsum("eqb,eq->eb", self.N, self.w)
+        return self.pattern.vector(fe.reshape(len(fe), -1))
+
+    # --------------------------------------------------------------- physics
+    def _chunks(self):
+        E = len(self.edofs)
+        for s in range(0, E, self.chunk):
+            yield slice(s, min(E, s + self.chunk))
+
+    def _points(self, u, sl):
+        ue = u[self.edofs[sl]].reshape(-1, self.nb, 3)
+        return KLPoint(self.dN[sl], self.HN[sl], ue)
+
+    def _moments(self, kappa, elastic=False):
+        """Voigt moments and their tangents from the laws at Voigt curvature."""
+        if elastic:
+            k1w, k1f = self.warp_law.k1, self.weft_law.k1
+            M1, D1 = k1w * kappa[..., 0], np.full(kappa.shape[:-1], k1w)
+            M2, D2 = k1f * kappa[..., 1], np.full(kappa.shape[:-1], k1f)
+        else:
+            M1, D1 = self.warp_state.trial(kappa[..., 0])
+            M2, D2 = self.weft_state.trial(kappa[..., 1])
+        M = np.stack([M1, M2, 0.5 * self.twist * kappa[..., 2]], axis=-1)
+        D = np.stack([D1, D2, np.full_like(D1, 0.5 * self.twist)], axis=-1)
+        return M, D
+
+    def _internal(self, u, v=None, a=None, elastic_tangent=False):
+        """Internal force and the data of (K, C_law, M_law) on the cell pattern.
+
+        ``C_law``/``M_law`` are the law's viscous ``d ∫ ∂κᵀ∂κ`` and curvature
+        inertia ``m ∫ ∂κᵀ∂κ`` in the current configuration; given ``v`` and ``a``,
+        K includes the derivative of ``(C_law v + M_law a)`` with respect to u.
+        """
+        nd = 3 * self.nb
+        E = len(self.edofs)
+        f = np.zeros((E, nd))
+        K = np.empty((E, nd, nd))
+        visc = np.array([[self.warp_law.d, self.weft_law.d],
+                         [self.warp_law.m, self.weft_law.m]], dtype=float)
+        has_visc = bool(np.any(visc != 0))
+        Cl = np.empty((E, nd, nd)) if has_visc else None
+        Ml = np.empty((E, nd, nd)) if has_visc else None
+        kps = [(sl, self._points(u, sl)) for sl in self._chunks()]
+        kappa = np.concatenate([kp.kappa for _, kp in kps])
+        Mall, Dall = self._moments(kappa, elastic=elastic_tangent)
+        for sl, kp in kps:
+            w = self.w[sl]
+            de = kp.strain_variation()
+            dk = kp.curvature_variation()
+            Nm = np.einsum("vw,eqw->eqv", self.C_m, kp.strain)
+            M, D = Mall[sl], Dall[sl]
+            f[sl] = (np.einsum("eqvI,eqv->eI", de, Nm * w[..., None])
+                     + np.einsum("eqvI,eqv->eI", dk, M * w[..., None]))
+            Mgeo, Kv = M, 0.0
+            if has_visc:
+                dk2 = dk[:, :, :2]
+                for out, coef in ((Cl, visc[0]), (Ml, visc[1])):
+                    out[sl] = gram(dk2 * (w[..., None] * coef)[..., None], dk2) if np.any(coef) else 0.0
+                # ∂/∂u of ∫ (d κ̇ + m κ̈) ∂κ: moments d κ̇ + m κ̈ in the geometric
+                # term plus ∂κ ⊗ ∂κ̇/∂u (unsymmetric)
+                Mgeo = M.copy()
+                for rate, coef in ((v, visc[0]), (a, visc[1])):
+                    if rate is None or not np.any(coef):
+                        continue
+                    xe = rate[self.edofs[sl]].reshape(-1, self.nb, 3)
+                    kdot, g = kp.rate_variation(xe)
+                    Mgeo[..., :2] += coef * kdot[..., :2]
+                    Kv = Kv + gram(dk2 * (w[..., None] * coef)[..., None], g[:, :, :2])
+            K[sl] = kp.tangent(self.C_m, Nm, Mgeo, D, w) + Kv
+        fint = self.pattern.vector(f)
+        Kd = self.pattern.matrix(K).data
+        if not has_visc:
+            return fint, Kd, None, None
+        return fint, Kd, self.pattern.matrix(Cl).data, self.pattern.matrix(Ml).data
+
+    def linear_stiffness(self):
+        """Tangent stiffness of the flat, unstressed state (membrane + elastic bending).
+
+        At ``u = 0`` the strain variation is ``sym ∇u_in-plane`` and the curvature
+        variation ``±∇∇u_z``; the geometric terms vanish. Assembled from the basis
+        arrays with two batched matmuls.
+        """
+        nb, E = self.nb, len(self.edofs)
+        dN, HN, w = self.dN, self.HN, self.w
+        de = np.zeros(w.shape + (3, nb, 3))
+        de[:, :, 0, :, 0] = dN[..., 0]
+        de[:, :, 1, :, 1] = dN[..., 1]
+        de[:, :, 2, :, 0] = dN[..., 1]
+        de[:, :, 2, :, 1] = dN[..., 0]
+        dk = np.zeros(w.shape + (3, nb, 3))
+        dk[..., 2] = np.swapaxes(HN, 2, 3)
+        de = de.reshape(w.shape + (3, 3 * nb))
+        dk = dk.reshape(w.shape + (3, 3 * nb))
+        D = np.array([self.warp_law.k1, self.weft_law.k1, 0.5 * self.twist])
+        CdE = np.einsum("vw,eqwI->eqvI", self.C_m, de) * w[..., None, None]
+        K = gram(de, CdE) + gram(dk, dk * (w[..., None] * D)[..., None])
+        return self.pattern.matrix(K)
+
+    def _edge_terms(self, u, t):
+        """External edge force vector and the follower-moment load stiffness."""
+        if self.edge is None:
+            return 0.0, None
+        ed = self.edge
+        F = len(ed["edofs"])
+        nd = 3 * self.nb
+        f = np.zeros((F, self.nb, 3))
+        Kl = None
+        if self.edge_load is not None:
+            f += self._edge_force(t, local=True)
+        if self.end_moment is not None:
+            m = float(self.end_moment(t))
+            ue = u[ed["edofs"]].reshape(F, self.nb, 3)
+            anu = np.einsum("fqb,fbk->fqk", ed["dNn"], ue)
+            nu3 = np.concatenate([ed["nu"], np.zeros(ed["nu"].shape[:-1] + (1,))], axis=-1)
+            anu = anu + nu3
+            s = anu[..., 2]
+            c = np.einsum("fqk,fqk->fq", anu, nu3)
+            r2 = s * s + c * c
+            ez = np.zeros(3); ez[2] = 1.0
+            # θ = atan2(s, c): rotation of the edge's material normal about the edge
+            gvec = (c[..., None] * ez - s[..., None] * nu3) / r2[..., None]
+            mw = m * ed["w"]
+            f += np.einsum("fqb,fq,fqk->fbk", ed["dNn"], mw, gvec)
+            tss = -2 * c * s / r2 ** 2
+            tsc = (s * s - c * c) / r2 ** 2
+            H = (tss[..., None, None] * (np.outer(ez, ez) - np.einsum("fqk,fql->fqkl", nu3, nu3))
+                 + tsc[..., None, None] * (np.einsum("k,fql->fqkl", ez, nu3)
+                                           + np.einsum("fqk,l->fqkl", nu3, ez)))
+            Ke = np.einsum("fqb,fqc,fq,fqkl->fbkcl", ed["dNn"], ed["dNn"], mw, H,
+                           optimize=True).reshape(F, nd, nd)
+            Kl = -np.bincount(self._edge_scatter, weights=Ke.ravel(), minlength=self.pattern.nnz)
+        return self.edge_pattern.vector(f.reshape(F, -1)), Kl
+
+    def _edge_force(self, t, local=False):
+        """Dead edge force: element-local (F, nb, 3) or global vector."""
+        ed = self.edge
+        q = np.asarray(self.edge_load(t), dtype=float).reshape(3)
+        f = np.einsum("fqb,fq,k->fbk", ed["N"], ed["w"], q)
+        return f if local else self.edge_pattern.vector(f.reshape(len(f), -1))
+
+    # ------------------------------------------------------------- interface
+    def prescribed(self, t):
+        """No imposed motions: returns None."""
+        return None
+
+    def external_force(self, u, t):
+        """External force ``f_ext(u, t)`` (gravity, edge load, end moment) × ``load_scale``."""
+        fe, _ = self._edge_terms(u, t)
+        return self.load_scale * (self.gravity(t) * self._f_gravity + fe)
+
+    def residual(self, u, v, a, t):
+        """Residual and its derivatives.
+
+        ``R = M a + C v + f_int(u) − f_ext(u, t)``, with ``C = α M + β K0``
+        plus the law's viscous term ``d κ̇`` (and curvature inertia ``m κ̈``)
+        linearised about the current configuration.
+
+        Returns
+        -------
+        R : ndarray; K, C, M : scipy.sparse.csr_matrix
+            ``∂R/∂u`` (consistent, including the configuration dependence of
+            the law's viscous and curvature-inertia terms), ``∂R/∂v``, ``∂R/∂a``;
+            all three on one CSR pattern.
+        """
+        self._t_last = t
+        fint, Kd, Cd, Md = self._internal(u, v, a)
+        fe, Kl = self._edge_terms(u, t)
+        alpha, beta = self.rayleigh
+        Cd = alpha * self._M.data + beta * self._K0.data + (0.0 if Cd is None else Cd)
+        Md = self._M.data + (0.0 if Md is None else Md)
+        lam = self.load_scale
+        if Kl is not None:
+            Kd = Kd + lam * Kl
+        # one CSR pattern for K, C and M: the integrator can add their data directly
+        K, C, M = (self.pattern.from_data(d) for d in (Kd, Cd, Md))
+        R = M @ a + C @ v + fint - lam * (self.gravity(t) * self._f_gravity + fe)
+        return R, K, C, M
+
+    def force_scale(self, t):
+        """Typical size of the external force (for relative residual tests): the full
+        self-weight (independent of the gravity ramp), edge force and end moment."""
+        scale = np.linalg.norm(self._f_gravity)
+        if self.edge is not None:
+            w = self.edge["w"].sum()
+            if self.edge_load is not None:
+                scale += np.linalg.norm(self.edge_load(t)) * w
+            if self.end_moment is not None:
+                scale += abs(float(self.end_moment(t))) * np.linalg.norm(
+                    np.einsum("fqb,fq->fb", self.edge["dNn"], self.edge["w"]))
+        return float(abs(self.load_scale) * scale)
+
+    def commit(self, u, v=None, a=None):
+        """Accept the converged state: commit the friction states, book the dissipated work."""
+        u = np.asarray(u, dtype=float)
+        _, kappa = self.qp_state(u)
+        Mf_new = self._friction_moments(kappa)
+        dk = kappa[..., :2] - self._kappa_committed[..., :2]
+        self._friction_work += float(np.einsum(
+            "eqv,eq->", 0.5 * (Mf_new + self._Mf_committed) * dk, self.w))
+        if v is not None:
+            v = np.asarray(v, dtype=float)
+            alpha, beta = self.rayleigh
+            C = alpha * self._M + beta * self._K0
+            Md = self._viscous_moments(u, v)
+            if self._v_committed is not None:
+                du = u - self._u_committed
+                self._damping_work += float(0.5 * (C @ v + C @ self._v_committed) @ du)
+                # the law's own viscosity: ∫ ½ (d κ̇_old + d κ̇_new) Δκ
+                self._damping_work += float(np.einsum(
+                    "eqv,eq->", 0.5 * (Md + self._Md_committed) * dk, self.w))
+            self._v_committed = v.copy()
+            self._Md_committed = Md
+        self.warp_state.commit(kappa[..., 0])
+        self.weft_state.commit(kappa[..., 1])
+        self._u_committed = u.copy()
+        self._kappa_committed = kappa
+        self._Mf_committed = self._friction_moments(kappa)
+
+    def _viscous_moments(self, u, v):
+        """The laws' viscous moments ``d κ̇`` (warp, weft) at the quadrature points."""
+        d = np.array([self.warp_law.d, self.weft_law.d], dtype=float)
+        out = np.zeros(self.w.shape + (2,))
+        if not np.any(d):
+            return out
+        for sl in self._chunks():
+            kp = self._points(u, sl)
+            ve = v[self.edofs[sl]]
+            out[sl] = d * np.einsum("eqvI,eI->eqv", kp.curvature_variation()[:, :, :2], ve)
+        return out
+
+    def _friction_moments(self, kappa):
+        return np.stack([self.warp_state.friction_moment(kappa[..., 0]),
+                         self.weft_state.friction_moment(kappa[..., 1])], axis=-1)
+
+    def qp_state(self, u):
+        """Membrane strain and curvature (Voigt) at all quadrature points, (e, q, 3) each."""
+        eps, kap = [], []
+        for sl in self._chunks():
+            kp = self._points(u, sl)
+            eps.append(kp.strain)
+            kap.append(kp.kappa)
+        return np.concatenate(eps), np.concatenate(kap)
+
+    def quadrature_fields(self, u, v=None, a=None):
+        """Curvatures, moments and friction moments at the quadrature points, (e, q) each.
+
+        Tensor components (``curvature_xy`` = κ12, ``moment_xy`` = M12).
+        """
+        eps, kap = self.qp_state(u)
+        out = {}
+        for name, i in (("xx", 0), ("yy", 1)):
+            state = self.warp_state if i == 0 else self.weft_state
+            out[f"curvature_{name}"] = kap[..., i]
+            out[f"moment_{name}"] = state.trial(kap[..., i])[0]
+            out[f"friction_moment_{name}"] = state.friction_moment(kap[..., i])
+        out["curvature_xy"] = 0.5 * kap[..., 2]
+        out["moment_xy"] = 0.5 * self.twist * kap[..., 2]
+        out["membrane_strain_xx"] = eps[..., 0]
+        out["membrane_strain_yy"] = eps[..., 1]
+        out["membrane_strain_xy"] = 0.5 * eps[..., 2]
+        return out
+
+    def energies(self, u, v):
+        """Energies [J]: kinetic, strain (membrane + elastic bending), external potential
+        (dead loads: gravity and edge force; not the follower end moment), friction and
+        damping work (Rayleigh and the law's d κ̇) dissipated so far, and their total."""
+        eps, kap = self.qp_state(u)
+        membrane = 0.5 * np.einsum("eqv,vw,eqw,eq->", eps, self.C_m, eps, self.w)
+        bend = sum(float(np.sum(_elastic_energy(law, kap[..., i]) * self.w))
+                   for i, law in enumerate((self.warp_law, self.weft_law)))
+        bend += float(np.sum(0.25 * self.twist * kap[..., 2] ** 2 * self.w))
+        kinetic = 0.5 * float(v @ (self._M @ v))
+        # potential of the dead loads (gravity, edge force) at the last residual time
+        t = self._t_last
+        f_dead = self.gravity(t) * self._f_gravity
+        if self.edge_load is not None:
+            f_dead = f_dead + self._edge_force(t)
+        ext = -float(self.load_scale * f_dead @ u)
+        strain = float(membrane + bend)
+        return dict(kinetic=kinetic, strain=strain, membrane=float(membrane), bending=bend,
+                    external_potential=ext, friction_work=self._friction_work,
+                    damping_work=self._damping_work,
+                    total=kinetic + strain + ext + self._friction_work + self._damping_work)
+
+    def nodal_displacement(self, u):
+        """Displacement 3-vector at the mesh vertices, shape (n_points, 3)."""
+        return np.asarray(u)[3 * self.basis.nodal_dofs[0][:, None] + np.arange(3)]
+
+    def fields(self, u, v=None, a=None):
+        """Output data: ``{"point_data": {...}, "cell_data": {...}}``.
+
+        Point data ``displacement`` (and ``velocity``) as (n_points, 3); cell data
+        are dx-weighted averages of :meth:`quadrature_fields`.
+        """
+        q = self.quadrature_fields(u, v, a)
+        area = self.w.sum(axis=1)
+        cell = {k: np.einsum("eq,eq->e", x, self.w) / area for k, x in q.items()}
+        point = {"displacement": self.nodal_displacement(u)}
+        if v is not None:
+            point["velocity"] = self.nodal_displacement(v)
+        return {"point_data": point, "cell_data": cell}
+
+    def solve_linear(self, K, b):
+        """Solve ``K x = b`` with the fixed dofs held at zero."""
+        x = np.zeros(self.ndofs)
+        free = np.setdiff1d(np.arange(self.ndofs), self.fixed_dofs)
+        x[free] = spla.spsolve(sp.csc_matrix(K[free][:, free]), b[free])
+        return x
+
+    def interpolate(self, value, grad=None, hess=None):
+        """Dof vector of a smooth displacement field given with its derivatives.
+
+        Callables of points ``x`` (2, N) returning (3, N), (3, 2, N), (3, 2, 2, N).
+        """
+        from drape.argyris import interpolate
+        u = np.zeros(self.ndofs)
+        for k in range(3):
+            def pick(f, k=k):
+                return None if f is None else (lambda x: np.asarray(f(x))[k])
+            u[k::3] = interpolate(self.basis, pick(value), pick(grad), pick(hess))
+        return u
+
+
+def _elastic_energy(law, kappa):
+    """Elastic bending energy density ``∫ (k1 κ + k3 κ³) dκ`` of a law (face-down values for κ < 0)."""
+    k1, k3 = law.k1, law.k3
+    if getattr(law, "k1_neg", None) is not None or getattr(law, "k3_neg", None) is not None:
+        neg = kappa < 0
+        k1 = np.where(neg, law.k1 if law.k1_neg is None else law.k1_neg, k1)
+        k3 = np.where(neg, law.k3 if law.k3_neg is None else law.k3_neg, k3)
+    return 0.5 * k1 * kappa ** 2 + 0.25 * k3 * kappa ** 4

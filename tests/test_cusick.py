@@ -1,0 +1,174 @@
+"""Cusick drape: the seeded fold perturbation and the wiring of the simulated drape test.
+
+Full-resolution drapes (node counts, mesh convergence, material sweep, friction) take minutes
+and live in benchmarks/bench_cusick.py. Here: the perturbation field against finite
+differences and the clamp, and an end-to-end runner case on a coarse annulus whose settled
+shape is checked against the closed-form axisymmetric annular-plate solution.
+"""
+import json
+import math
+
+import numpy as np
+import pytest
+
+from drape.perturbation import FoldPerturbation, PerturbationError, perturbation_dofs
+
+R, RD = 0.15, 0.09
+
+
+def ring_points(radius, n=720):
+    phi = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    return phi, radius * np.array([np.cos(phi), np.sin(phi)])
+
+
+def test_same_seed_same_field_other_seed_other_field():
+    x = np.random.default_rng(5).uniform(-R, R, (2, 200))
+    a = FoldPerturbation(RD, R, seed=3).value(x)
+    b = FoldPerturbation(RD, R, seed=3).value(x)
+    c = FoldPerturbation(RD, R, seed=4).value(x)
+    assert np.array_equal(a, b)
+    assert np.abs(a - c).max() > 1e-4
+
+
+@pytest.mark.parametrize("n", [3, 7, 10])
+def test_lobed_field_has_n_lobes_and_amplitude_on_hem(n):
+    from drape.cusick import find_nodes
+
+    p = FoldPerturbation(RD, R, kind="lobed", n_lobes=n, amplitude=2e-3, seed=11)
+    phi, x = ring_points(R)
+    w = p.value(x)
+    # 720 samples miss the crest by at most half a sample: relative error <= 1 - cos(n pi / 720)
+    assert np.abs(w).max() == pytest.approx(2e-3, rel=1 - np.cos(n * np.pi / 720) + 1e-12)
+    assert len(find_nodes(w)[0]) == n
+    # quadratic growth from the disc: at mid-overhang a quarter of the hem value
+    _, xm = ring_points(0.5 * (R + RD))
+    np.testing.assert_allclose(p.value(xm), 0.25 * w, atol=1e-15)
+
+
+def test_random_field_is_normalised_and_multimodal():
+    p = FoldPerturbation(RD, R, kind="random", amplitude=1e-3, k_min=2, k_max=12, seed=0)
+    k, c, _ = p.modes()
+    assert k.tolist() == list(range(2, 13)) and np.count_nonzero(c) == 11
+    _, x = ring_points(R, 4096)
+    assert np.abs(p.value(x)).max() == pytest.approx(1e-3, rel=1e-3)
+
+
+@pytest.mark.parametrize("kind", ["lobed", "random"])
+def test_gradient_and_hessian_match_finite_differences(kind):
+    p = FoldPerturbation(RD, R, kind=kind, n_lobes=5, amplitude=1e-3, seed=2)
+    x = np.random.default_rng(1).uniform(-R, R, (2, 50))
+    x = x[:, (np.hypot(*x) > RD + 0.005) & (np.hypot(*x) < R)]
+    h = 1e-6
+    e = np.eye(2)[:, :, None] * h
+    grad_fd = np.array([(p.value(x + e[i]) - p.value(x - e[i])) / (2 * h) for i in range(2)])
+    hess_fd = np.array([(p.grad(x + e[i]) - p.grad(x - e[i])) / (2 * h) for i in range(2)])
+    scale = 1e-3 / (R - RD)
+    np.testing.assert_allclose(p.grad(x), grad_fd, atol=1e-7 * scale)
+    np.testing.assert_allclose(p.hess(x), hess_fd, atol=1e-5 * scale / (R - RD))
+
+
+def test_bad_parameters_name_the_key():
+    with pytest.raises(PerturbationError, match="perturbation.kind"):
+        FoldPerturbation(RD, R, kind="wavy")
+    with pytest.raises(PerturbationError, match="perturbation.target"):
+        FoldPerturbation(RD, R, target="force")
+    with pytest.raises(PerturbationError, match="k_min"):
+        FoldPerturbation(RD, R, k_min=5, k_max=3)
+    with pytest.raises(PerturbationError, match="disc_radius"):
+        FoldPerturbation(R, RD)
+
+
+def test_dofs_respect_the_disc_clamp_and_reproduce_the_field():
+    """Interpolated on the framed Argyris basis of a Cusick annulus, the field has zero
+    clamped dofs (w, grad w, w_tt, w_tn vanish on the disc edge) and matches w inside."""
+    from skfem import Basis
+    from skfem.element import ElementVector
+
+    import meshes
+    from drape.argyris import interpolate  # noqa: F401  (frame-aware interpolation used inside)
+    from drape.boundary import argyris_element, clamped_dofs
+
+    mesh = meshes.cusick_annulus(0.30, 0.18, n_radial=3, n_circumferential=48)
+    elem = argyris_element(mesh, {"disc": "clamped"})
+    basis = Basis(mesh, elem)
+    fixed = clamped_dofs(Basis(mesh, ElementVector(elem, 3)), ["disc"])
+    p = FoldPerturbation(RD, R, kind="lobed", n_lobes=6, amplitude=1e-3, seed=0)
+    x0 = perturbation_dofs(basis, p)
+    assert np.abs(x0[fixed]).max() < 1e-15
+    assert np.abs(x0[0::3]).max() == 0 and np.abs(x0[1::3]).max() == 0
+    w_h = basis.interpolate(x0[2::3])
+    w = p.value(basis.global_coordinates().value)
+    # quintic interpolation of cos(6 phi) on 48 sectors: well under 1 % of the amplitude
+    assert np.abs(w_h.value - w).max() < 1e-2 * 1e-3
+
+
+# ------------------------------------------------------------------ end-to-end (runner)
+def annular_plate_deflection(r, q, D, a=R, b=RD, nu=0.0):
+    """Closed-form axisymmetric Kirchhoff plate: clamped at r = b, free at r = a, load q (+z).
+
+    w = C1 + C2 ln r + C3 r^2 + C4 r^2 ln r + q r^4 / (64 D); w(b) = w'(b) = 0,
+    M_r(a) = 0, Q_r(a) = 0.
+    """
+    def parts(x):  # columns: C1..C4 and the particular solution; rows: w, w', w'', w'''
+        ln = math.log(x)
+        return np.array([
+            [1, ln, x**2, x**2 * ln, q * x**4 / (64 * D)],
+            [0, 1 / x, 2 * x, 2 * x * ln + x, q * x**3 / (16 * D)],
+            [0, -1 / x**2, 2, 2 * ln + 3, 3 * q * x**2 / (16 * D)],
+            [0, 2 / x**3, 0, 2 / x, 6 * q * x / (16 * D)],
+        ])
+    pb, pa = parts(b), parts(a)
+    rows = [pb[0], pb[1], pa[2] + nu * pa[1] / a, pa[3] + pa[2] / a - pa[1] / a**2]
+    A = np.array([row[:4] for row in rows])
+    rhs = -np.array([row[4] for row in rows])
+    c = np.linalg.solve(A, rhs)
+    return np.array([np.dot(parts(x)[0, :4], c) + parts(x)[0, 4] for x in np.atleast_1d(r)])
+
+
+def stiff_case(tmp_path, k1):
+    from drape.case import parse_case
+
+    return parse_case({
+        "case": {"name": "cusick_stiff", "analysis": "cusick"},
+        "mesh": {"kind": "cusick", "specimen_diameter": 0.30, "disc_diameter": 0.18,
+                 "n_radial": 2, "n_circumferential": 24},
+        "material": {"name": "fabric1", "friction": False, "k1": k1, "k3": 0.0, "d": 0.0},
+        "model": {"kinematics": "large", "supports": {"disc": "clamped"}},
+        "load": {"gravity": {"ramp_time": 1.0}},
+        "solver": {"dt": 0.5, "t_end": 1.0, "quasi_static": True},
+        "output": {"every": 100},
+    })
+
+
+def test_stiff_fabric_hangs_like_the_annular_plate_and_keeps_dc_near_one(tmp_path):
+    """Bending length (k1/(rho_A g))^(1/3) = 18 cm >> 6 cm overhang: small deflection, so the
+    settled hem deflection equals the closed-form plate value (isotropic, nu = 0: the shell's
+    default twist rigidity sqrt(k1 k1) is the nu = 0 plate), and DC stays ~100 %."""
+    from drape.run import run_case
+
+    k1 = 1e-2
+    case = stiff_case(tmp_path, k1)
+    summary = run_case(case, tmp_path, quiet=True)
+    assert summary["status"] == "completed"
+    import meshio
+
+    from constitutive.material import load_material
+    from drape.output import read_pvd
+
+    last = read_pvd(tmp_path / "cusick_stiff.pvd")[-1][1]
+    m = meshio.read(last)
+    disp = m.point_data["displacement"]
+    rho = np.hypot(m.points[:, 0], m.points[:, 1])
+    hem = rho > R - 1e-9
+    rho_A = load_material("fabric1").areal_mass
+    w_ref = annular_plate_deflection(R, -rho_A * 9.80665, k1)[0]
+    # coarse 2 x 24 annulus: the polygonal disc edge and hem cost ~2 % (C: 1.4 % at refine=1)
+    np.testing.assert_allclose(disp[hem, 2], w_ref, rtol=0.04)
+    a = summary["analysis"]
+    assert a["n_nodes"] == 0
+    # DC of the flat 24-gon hem (the mesh's own 100 %), minus what a 0.3 mm sag can take away
+    dc_flat = (0.5 * 24 * R**2 * np.sin(2 * np.pi / 24) - np.pi * RD**2) / (np.pi * (R**2 - RD**2))
+    assert a["drape_coefficient"] == pytest.approx(dc_flat, abs=1e-3)
+    assert (tmp_path / "cusick_stiff_top_view.png").exists()
+    saved = json.loads((tmp_path / "summary.json").read_text())
+    assert saved["analysis"]["drape_coefficient"] == pytest.approx(a["drape_coefficient"])
