@@ -1,8 +1,8 @@
 """Small-deflection Kirchhoff plate of fabric with the hysteretic bending law (thesis ch. 5).
 
 Scalar deflection ``w`` discretised with ``ElementTriMorley`` or an Argyris
-element. Curvatures (CONVENTIONS.md): ``κ_xx = −w_,xx``, ``κ_yy = −w_,yy``,
-``κ_xy = −w_,xy`` (tensor component). Bending energy density of the linear part
+element. Curvatures (DESIGN §2, face-up positive): ``κ_xx = w_,xx``, ``κ_yy = w_,yy``,
+``κ_xy = w_,xy`` (tensor component). Bending energy density of the linear part
 ``½ B1 κ_xx² + ½ B2 κ_yy² + D_t κ_xy²``; the warp law (material.warp) acts on
 ``κ_xx``, the weft law on ``κ_yy`` and the twist is linear with rigidity
 ``D_t``. The cubic and friction parts enter through one
@@ -54,10 +54,11 @@ from .assembly import (
 __all__ = ["KirchhoffPlate", "PlateInputError", "pure_bending_rotations", "demo_material", "STANDARD_GRAVITY"]
 
 STANDARD_GRAVITY = 9.80665
-#: ``κ_αβ = CURVATURE_SIGN · w_,αβ``. −1 is CONVENTIONS.md (a sagging cantilever has κ > 0);
-#: the large-rotation shell's DESIGN §4 form ``κ = u_,αβ · n`` corresponds to +1 (one switch to align them;
-#: tests/test_plate.py::test_sign_convention_positive_curvature pins the chosen one).
-CURVATURE_SIGN = -1.0
+#: ``κ_αβ = CURVATURE_SIGN · w_,αβ``: positive κ bends the fabric face-up (concave towards +z,
+#: DESIGN §2), the small-rotation limit of the shell's ``κ = u_,αβ · n``; so a cantilever sagging
+#: under gravity bends face-down (κ_xx < 0). The one switch for plate and shell alike;
+#: tests/test_plate.py::test_sign_convention_positive_curvature pins it.
+CURVATURE_SIGN = 1.0
 SUPPORT_KINDS = ("clamped", "simply_supported", "free")
 _DEFAULT_INTORDER = {"morley": 4, "argyris": 10}
 
@@ -178,13 +179,14 @@ def pure_bending_rotations(kappa: Callable[[float], float], length: float, ends=
     """Edge rotations that impose the uniform curvature ``κ(t)`` on a strip of ``length``.
 
     With both ends clamped at ``w = 0`` and outward normal slopes
-    ``∂w/∂n = −κ L/2`` the deflection is ``w = −κ x (x − L)/2``: exactly
-    uniform ``κ_xx = κ`` (pure bending, as in the KES-FB tester). If ``kappa``
-    returns ``(κ, κ̇, κ̈)`` the slopes carry their rates too (exact lifting).
+    ``∂w/∂n = s κ L/2`` (``s`` = :data:`CURVATURE_SIGN`) the deflection is
+    ``w = s κ x (x − L)/2``: exactly uniform ``κ_xx = κ`` (pure bending, as in
+    the KES-FB tester). If ``kappa`` returns ``(κ, κ̇, κ̈)`` the slopes carry
+    their rates too (exact lifting).
 
     >>> rot = pure_bending_rotations(lambda t: 2.0 * t, 0.01)
     >>> rot["left"](1.0), rot["right"](1.0)
-    (-0.01, -0.01)
+    (0.01, 0.01)
     """
     if not length > 0:
         raise PlateInputError(f"length must be > 0, got {length}")
@@ -192,8 +194,8 @@ def pure_bending_rotations(kappa: Callable[[float], float], length: float, ends=
     def slope(t):
         value = kappa(t)
         if np.ndim(value):
-            return tuple(-0.5 * length * float(x) for x in value)
-        return -0.5 * length * float(value)
+            return tuple(0.5 * CURVATURE_SIGN * length * float(x) for x in value)
+        return 0.5 * CURVATURE_SIGN * length * float(value)
 
     return {end: slope for end in ends}
 
@@ -432,7 +434,8 @@ class KirchhoffPlate:
         """
         for edge, dofs, unit, _ in self._rotations:
             if edge.name == name:
-                return -float(R[dofs] @ unit) / edge.length
+                # the slope dofs carry s·κ (s = CURVATURE_SIGN), so their generalized force is s·M
+                return CURVATURE_SIGN * float(R[dofs] @ unit) / edge.length
         raise PlateInputError(f"edge_moment: {name!r} is not a rotated boundary")
 
     # ------------------------------------------------------------------ physics

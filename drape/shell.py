@@ -57,8 +57,8 @@ from drape.kinematics import KLPoint, basis_arrays, gram
 from drape.plate import CURVATURE_SIGN as _PLATE_CURVATURE_SIGN
 
 #: Sign of the curvature fed to the laws and written out: ``κ_αβ = ±u_,αβ · n``.
-#: DESIGN.md §4 writes +; the small-deflection plate (CONVENTIONS.md) uses κ = −w_,xx,
-#: which is the − sign here. The shell takes the plate's constant so both models give
+#: DESIGN.md §2 and §4: +, positive κ bends the fabric face-up (concave towards +z). The
+#: shell takes the plate's constant (κ = w_,xx there) so both models give
 #: the same κ (and the same face-up/face-down law branch) for the same bend: one switch,
 #: :data:`drape.plate.CURVATURE_SIGN`.
 CURVATURE_SIGN = float(_PLATE_CURVATURE_SIGN)

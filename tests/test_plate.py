@@ -247,14 +247,14 @@ def test_library_fabric_drape_strip_converges_and_friction_stiffens():
 
 # --------------------------------------------------------------------------- conventions, input
 def test_sign_convention_positive_curvature():
-    """κ_xx = −w_,xx (CONVENTIONS.md): a sagging cantilever has κ_xx > 0 and M_xx > 0;
-    an imposed positive κ on a strip gives the cap w = −κ x (x − L)/2 (midspan up)."""
+    """κ_xx = +w_,xx (DESIGN §2, face-up positive): a sagging cantilever has κ_xx < 0 and M_xx < 0;
+    an imposed positive κ on a strip gives the trough w = κ x (x − L)/2 (midspan down, ends up)."""
     plate = KirchhoffPlate(strip(8, 2), material(), supports={"left": "clamped"})
     s = quasi_static(plate, [1.0])
     cells = plate.fields(s.u, s.v, s.a)["cell_data"]
     assert tip_deflection(plate, s.u) < 0
     root = plate.mesh.p[0, plate.mesh.t].mean(axis=0) < 0.75 * L   # Morley's tip cells are ~0 either sign
-    assert np.all(cells["curvature_xx"][root] > 0) and np.all(cells["moment_xx"][root] > 0)
+    assert np.all(cells["curvature_xx"][root] < 0) and np.all(cells["moment_xx"][root] < 0)
 
     kappa = 30.0
     plate = KirchhoffPlate(strip(8, 2), material(), rotations=pure_bending_rotations(lambda t: kappa * t, L),
@@ -263,7 +263,7 @@ def test_sign_convention_positive_curvature():
     cells = plate.fields(s.u, s.v, s.a)["cell_data"]
     np.testing.assert_allclose(cells["curvature_xx"], kappa, rtol=1e-9)
     x = plate.mesh.p[0]
-    np.testing.assert_allclose(s.u[plate.vertex_dofs], -kappa * x * (x - L) / 2, atol=1e-12)
+    np.testing.assert_allclose(s.u[plate.vertex_dofs], kappa * x * (x - L) / 2, atol=1e-12)
 
 
 def test_fields_shapes_and_units():
