@@ -12,34 +12,9 @@ import pytest
 from scipy.integrate import solve_bvp
 from skfem import MeshTri
 
+from drape.newmark import quasi_static
 from drape.peirce import shell_peirce_summary
 from drape.shell import ElasticMaterial, G_STANDARD, KirchhoffLoveShell
-
-
-def equilibrium_path(model, load_factors, tol=1e-9, max_iter=30, on_step=None):
-    """Plain Newton on load steps (stand-in for drape.newmark.quasi_static, whose
-    |R|-backtracking line search stalls on the first step of a stiff-membrane shell
-    from the flat state; switch back once it takes full Newton steps there).
-    Converged when the Newton update is below ``tol`` relative to ``u`` (Newton is
-    quadratic here, so the accepted iterate is accurate to ~tol²)."""
-    u = np.zeros(model.ndofs)
-    z = np.zeros_like(u)
-    peak = 0.0                      # largest |u| so far: the scale when unloading to zero
-    for lam in load_factors:
-        model.load_scale = lam
-        for _ in range(max_iter):
-            R, K, _, _ = model.residual(u, z, z, lam)
-            du = model.solve_linear(K, -R)
-            u += du
-            peak = max(peak, np.linalg.norm(u))
-            if np.linalg.norm(du) <= tol * max(np.linalg.norm(u), 1e-6 * peak):
-                break
-        else:
-            raise AssertionError(f"Newton did not converge at load factor {lam}")
-        model.commit(u, z, z)
-        if on_step is not None:
-            on_step(u)
-    return u
 
 
 def elastica_tip(alpha, with_tip_angle=False):
@@ -75,7 +50,7 @@ def test_self_weight_cantilever_matches_elastica(alpha):
     mesh = mesh.with_boundaries({"clamped": lambda x: x[0] < 1e-9, "free": lambda x: x[0] > L - 1e-9})
     mat = ElasticMaterial(bending=B, membrane=1e5, areal_mass=alpha / G_STANDARD)
     shell = KirchhoffLoveShell(mesh, mat)
-    u = equilibrium_path(shell, np.linspace(0.1, 1.0, 10))
+    u = quasi_static(shell, np.linspace(0.1, 1.0, 10)).u
     s = shell_peirce_summary(shell, u, B_kes=B)
     drop, chord, tip_angle = elastica_tip(alpha, with_tip_angle=True)
     assert s["tip_drop_m"] / L == pytest.approx(drop, rel=0.01)

@@ -333,3 +333,13 @@ def test_cantilever_runs_short_from_the_command_line(tmp_path):
     assert len(read_pvd(out / f"{summary['case']}.pvd")) >= 2
     resolved = load_case(out / "case.resolved.toml")
     assert resolved.solver.t_end == 0.02
+
+
+def test_kes_summary_material_takes_the_testers_printout_units():
+    """[material.kes] W is in mg/cm² and T in mm (KES print-out): 12.5 mg/cm² is 0.125 kg/m², 0.30 mm is 3e-4 m;
+    B in gf·cm²/cm (× 9.80665e-5 N·m): the built law's simulated KES loop gives it back."""
+    case = load_case(Path(__file__).parents[1] / "cases" / "cusick_kes.toml")
+    material = runner.build_material(case)
+    assert material.areal_mass == pytest.approx(0.125, rel=1e-12)
+    assert material.thickness == pytest.approx(3.0e-4, rel=1e-12)
+    assert material.simulated_kes()["warp"].B == pytest.approx(case.material.kes.B_warp * 9.80665e-5, rel=0.02)

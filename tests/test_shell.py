@@ -4,33 +4,8 @@ import numpy as np
 import pytest
 from skfem import MeshTri
 
+from drape.newmark import quasi_static
 from drape.shell import CURVATURE_SIGN, ElasticMaterial, KirchhoffLoveShell
-
-
-def equilibrium_path(model, load_factors, tol=1e-9, max_iter=30, on_step=None):
-    """Plain Newton on load steps (stand-in for drape.newmark.quasi_static, whose
-    |R|-backtracking line search stalls on the first step of a stiff-membrane shell
-    from the flat state; switch back once it takes full Newton steps there).
-    Converged when the Newton update is below ``tol`` relative to ``u`` (Newton is
-    quadratic here, so the accepted iterate is accurate to ~tol²)."""
-    u = np.zeros(model.ndofs)
-    z = np.zeros_like(u)
-    peak = 0.0                      # largest |u| so far: the scale when unloading to zero
-    for lam in load_factors:
-        model.load_scale = lam
-        for _ in range(max_iter):
-            R, K, _, _ = model.residual(u, z, z, lam)
-            du = model.solve_linear(K, -R)
-            u += du
-            peak = max(peak, np.linalg.norm(u))
-            if np.linalg.norm(du) <= tol * max(np.linalg.norm(u), 1e-6 * peak):
-                break
-        else:
-            raise AssertionError(f"Newton did not converge at load factor {lam}")
-        model.commit(u, z, z)
-        if on_step is not None:
-            on_step(u)
-    return u
 
 
 def _strip(L, b, nx, ny=1):
@@ -56,10 +31,10 @@ def test_rollup_under_follower_end_moment():
                                gravity=0.0, end_moment=Mmax)
     checks = {}
 
-    def record(u):
-        checks[round(shell.load_scale, 6)] = _tip(shell, u)
+    def record(state, info):
+        checks[round(shell.load_scale, 6)] = _tip(shell, state.u)
 
-    equilibrium_path(shell, np.linspace(0.1, 1.0, 10), on_step=record)
+    quasi_static(shell, np.linspace(0.1, 1.0, 10), on_step=record)
     for lam in (0.5, 1.0):
         th = lam * Mmax * L / B
         exact = np.array([-L * (1 - np.sin(th) / th), 0.0, L * (1 - np.cos(th)) / th])
@@ -74,8 +49,8 @@ def test_sze_cantilever_under_end_shear():
     shell = KirchhoffLoveShell(_strip(L, b, 8), ElasticMaterial(bending=E * h ** 3 / 12, membrane=E * h),
                                gravity=0.0, edge_load=np.array([0.0, 0.0, 4.0 / b]))
     tips = {}
-    equilibrium_path(shell, np.linspace(0.1, 1.0, 10),
-                     on_step=lambda u: tips.__setitem__(round(shell.load_scale, 6), _tip(shell, u)))
+    quasi_static(shell, np.linspace(0.1, 1.0, 10),
+                 on_step=lambda s, i: tips.__setitem__(round(shell.load_scale, 6), _tip(shell, s.u)))
     for lam, (mu, w) in {0.5: (1.604, 4.933), 1.0: (3.286, 6.698)}.items():
         assert -tips[lam][0] == pytest.approx(mu, rel=0.01)
         assert tips[lam][2] == pytest.approx(w, rel=0.01)
@@ -94,10 +69,9 @@ def test_small_load_limit_agrees_with_small_deflection_plate():
     plate = KirchhoffPlate(mesh, mat, element="argyris", supports={"clamped": "clamped"})
     shell = KirchhoffLoveShell(mesh, mat)
     lams = [1e-3, 3e-3]     # tip deflection ~ 0.005 L: friction ~ 30 % of the root moment
-    from drape.newmark import quasi_static
     up = quasi_static(plate, lams).u
     # stick friction makes the strip ~1e3x stiffer: |du|/|u| bottoms out near 4e-9 (round-off)
-    us = equilibrium_path(shell, lams, tol=1e-7)
+    us = quasi_static(shell, lams, du_rtol=1e-7).u
     wp = plate.fields(up, 0 * up, 0 * up)["point_data"]["displacement"]
     ws = shell.fields(us)["point_data"]["displacement"]
     tip = mesh.p[0] > L * (1 - 1e-9)
@@ -157,7 +131,7 @@ def test_unloading_leaves_curvature_held_by_friction():
     mat = load_material("fabric1")
     path = list(np.linspace(0.1, 1.0, 10)) + list(np.linspace(0.9, 0.0, 10))
     shell = KirchhoffLoveShell(strip(0.0163, 0.025, 3, 1), mat, load_boundary="free_end")
-    u = equilibrium_path(shell, path, tol=1e-7)
+    u = quasi_static(shell, path, du_rtol=1e-7).u
     cells = shell.fields(u)["cell_data"]
     assert shell.nodal_displacement(u)[:, 2].min() < -1e-3
     Mf = np.abs(cells["friction_moment_xx"]).max()
@@ -166,7 +140,7 @@ def test_unloading_leaves_curvature_held_by_friction():
     elastic = mat.replace(warp=BendingLaw(k1=mat.warp.k1, k3=mat.warp.k3),
                           weft=BendingLaw(k1=mat.weft.k1, k3=mat.weft.k3))
     shell = KirchhoffLoveShell(strip(0.0163, 0.025, 3, 1), elastic, load_boundary="free_end")
-    u = equilibrium_path(shell, path, tol=1e-7)
+    u = quasi_static(shell, path, du_rtol=1e-7).u
     assert np.abs(shell.nodal_displacement(u)).max() <= 1e-9
 
 
@@ -196,7 +170,7 @@ def test_small_amplitude_vibration_frequency():
     shell = KirchhoffLoveShell(_strip(L, b, 8), ElasticMaterial(bending=B, membrane=1e6,
                                                              areal_mass=rho),
                                gravity=0.0, edge_load=np.array([0.0, 0.0, 1e-4]))
-    u0 = equilibrium_path(shell, [1.0])
+    u0 = quasi_static(shell, [1.0]).u
     shell.load_scale = 0.0                              # release
     T = 2 * np.pi / (1.8751 ** 2 / L ** 2 * np.sqrt(B / rho))
     hist = []
