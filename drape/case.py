@@ -280,9 +280,10 @@ class KesSummary(_Section):
     HB2_weft: float = Field(ge=0)
     """Hysteresis width 2HB, weft [gf·cm/cm]."""
     weight: float = Field(gt=0)
-    """Fabric weight W [mg/cm²], as the KES print-out gives it (areal mass = W / 100 kg/m²)."""
+    """Fabric weight W [gf/cm²] (areal mass = 10 × W kg/m²; 1 mg/cm² = 0.001 gf/cm²), as in the
+    material library (cases/materials/*.toml) and thesis Table 4.2."""
     thickness: float | None = Field(None, gt=0)
-    """Thickness T [mm], as the KES-FB3 print-out gives it (optional)."""
+    """Thickness [cm] (optional), as in the material library."""
     eps_f: float = Field(0.2, gt=0)
     """Friction length ε_f [cm⁻¹] of the calibrated friction (a1 = ε_f η)."""
     eta: float = Field(0.5, gt=0, lt=1)

@@ -335,7 +335,7 @@ def _make_mesh(spec):
 def build_material(case: Case):
     """The fabric of ``[material]`` with the case's overrides applied (SI)."""
     from constitutive.material import load_material, material_from_kes
-    from constitutive.units import to_si, ureg
+    from constitutive.units import to_si
 
     spec = case.material
     if spec.kes is not None:
@@ -343,9 +343,8 @@ def build_material(case: Case):
         material = material_from_kes(
             case.case.name, to_si(k.B_warp, "B"), to_si(k.B_weft, "B"),
             to_si(k.HB2_warp, "HB2"), to_si(k.HB2_weft, "HB2"),
-            # the tester's print-out units (W in mg/cm², T in mm), not the thesis's gf/cm² and cm
-            areal_mass=ureg.Quantity(k.weight, "mg/cm**2").to("kg/m**2").magnitude,
-            thickness=None if k.thickness is None else ureg.Quantity(k.thickness, "mm").to("m").magnitude,
+            areal_mass=to_si(k.weight, "weight"),
+            thickness=None if k.thickness is None else to_si(k.thickness, "thickness"),
             eps_f=to_si(k.eps_f, "eps_f"), eta=k.eta, description=case.case.description,
             source="case file [material.kes]")
     else:

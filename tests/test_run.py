@@ -335,9 +335,9 @@ def test_cantilever_runs_short_from_the_command_line(tmp_path):
     assert resolved.solver.t_end == 0.02
 
 
-def test_kes_summary_material_takes_the_testers_printout_units():
-    """[material.kes] W is in mg/cm² and T in mm (KES print-out): 12.5 mg/cm² is 0.125 kg/m², 0.30 mm is 3e-4 m;
-    B in gf·cm²/cm (× 9.80665e-5 N·m): the built law's simulated KES loop gives it back."""
+def test_kes_summary_material_uses_the_material_library_units():
+    """[material.kes] takes the KES units of cases/materials (DESIGN §2): W 0.0125 gf/cm² is 0.125 kg/m²,
+    0.030 cm is 3e-4 m; B in gf·cm²/cm (× 9.80665e-5 N·m) comes back from the built law's simulated loop."""
     case = load_case(Path(__file__).parents[1] / "cases" / "cusick_kes.toml")
     material = runner.build_material(case)
     assert material.areal_mass == pytest.approx(0.125, rel=1e-12)
