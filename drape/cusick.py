@@ -40,6 +40,8 @@ import numpy as np
 import shapely
 from scipy.signal import find_peaks
 
+from constitutive.units import G0
+
 __all__ = [
     "CusickError",
     "CusickResult",
@@ -425,7 +427,7 @@ def kinetic_energy_threshold(areal_mass: float, specimen_radius: float, disc_rad
         raise CusickError(f"fraction = {fraction!r}: must lie in (0, 1)")
     overhang = specimen_radius - disc_radius
     area = np.pi * (specimen_radius**2 - disc_radius**2)
-    return fraction * areal_mass * 9.80665 * area * overhang
+    return fraction * areal_mass * G0 * area * overhang
 
 
 def _nodal_displacement(mesh, displacement) -> np.ndarray:

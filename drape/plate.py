@@ -38,6 +38,8 @@ from dataclasses import dataclass
 from typing import Callable, Mapping
 
 import numpy as np
+
+from constitutive.units import G0
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 import skfem
@@ -53,7 +55,7 @@ from .assembly import (
 
 __all__ = ["KirchhoffPlate", "PlateInputError", "pure_bending_rotations", "demo_material", "STANDARD_GRAVITY"]
 
-STANDARD_GRAVITY = 9.80665
+STANDARD_GRAVITY = G0
 #: ``κ_αβ = CURVATURE_SIGN · w_,αβ``: positive κ bends the fabric face-up (concave towards +z,
 #: DESIGN §2), the small-rotation limit of the shell's ``κ = u_,αβ · n``; so a cantilever sagging
 #: under gravity bends face-down (κ_xx < 0). The one switch for plate and shell alike;

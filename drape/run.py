@@ -30,6 +30,8 @@ from typing import Any, Callable
 
 import numpy as np
 
+from constitutive.units import G0
+
 from drape import case as case_module
 from drape.case import Case, CaseError, check_boundaries, describe_schema, dump_case, load_case
 from drape.output import OutputSchedule, OutputWriter
@@ -40,7 +42,7 @@ __all__ = ["RunContext", "Analysis", "ANALYSES", "register_analysis", "unregiste
 log = logging.getLogger("drape.run")
 
 #: Standard gravity [m/s²] (CONVENTIONS.md).
-G_STANDARD = 9.80665
+G_STANDARD = G0
 
 
 class RunInputError(ValueError):
@@ -197,11 +199,11 @@ def _peirce_finish(ctx: RunContext) -> dict:
     if len(clamped) != 1:
         raise RunInputError("case.analysis = 'peirce' needs exactly one clamped boundary")
     s = ctx.state
-    B_kes = float(ctx.material.simulated_kes()["warp"].B)
-    if hasattr(peirce, "shell_peirce_summary") and hasattr(ctx.model, "nodal_displacement"):
-        out = peirce.shell_peirce_summary(ctx.model, s.u, B_kes=B_kes, clamped=clamped[0],
-                                          free="free_end")
+    if hasattr(ctx.model, "nodal_displacement"):
+        # the shell picks the warp or weft B from the strip's direction
+        out = peirce.shell_peirce_summary(ctx.model, s.u, clamped=clamped[0], free="free_end")
     else:
+        B_kes = float(ctx.material.simulated_kes()["warp"].B)   # plate strips run along x (warp)
         gravity = ctx.case.load.gravity
         W = ctx.material.areal_mass * G_STANDARD * (
             0.0 if gravity is None else gravity.factor * gravity.amplitude(s.t))
@@ -526,15 +528,14 @@ def settling_threshold(case: Case, mesh, material) -> float | None:
 
 
 def mesh_areas(mesh) -> np.ndarray:
-    """Triangle areas of an ``skfem.MeshTri``.
+    """Triangle areas of an ``skfem.MeshTri`` (:func:`meshes.quality.triangle_areas`, unsigned).
 
     >>> from skfem import MeshTri
     >>> float(mesh_areas(MeshTri()).sum())
     1.0
     """
-    p = mesh.p[:, mesh.t]
-    d1, d2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
-    return 0.5 * np.abs(d1[0] * d2[1] - d1[1] * d2[0])
+    from meshes.quality import triangle_areas
+    return np.abs(triangle_areas(mesh.p, mesh.t))
 
 
 def _setup_logging(out_dir: Path) -> logging.Handler:

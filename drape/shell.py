@@ -52,9 +52,11 @@ import scipy.sparse.linalg as spla
 from skfem import CellBasis, FacetBasis
 
 from constitutive.law import BendingLaw
+from constitutive.units import G0
 from drape.assembly import SparsityPattern
 from drape.kinematics import KLPoint, basis_arrays, gram
 from drape.plate import CURVATURE_SIGN as _PLATE_CURVATURE_SIGN
+from drape.plate import _elastic_energy
 
 #: Sign of the curvature fed to the laws and written out: ``κ_αβ = ±u_,αβ · n``.
 #: DESIGN.md §2 and §4: +, positive κ bends the fabric face-up (concave towards +z). The
@@ -64,7 +66,7 @@ from drape.plate import CURVATURE_SIGN as _PLATE_CURVATURE_SIGN
 CURVATURE_SIGN = float(_PLATE_CURVATURE_SIGN)
 
 #: Standard gravity [m/s²].
-G_STANDARD = 9.80665
+G_STANDARD = G0
 
 
 class ShellInputError(ValueError):
@@ -541,7 +543,7 @@ class KirchhoffLoveShell:
         self.weft_state.commit(kappa[..., 1])
         self._u_committed = u.copy()
         self._kappa_committed = kappa
-        self._Mf_committed = self._friction_moments(kappa)
+        self._Mf_committed = Mf_new           # the moment at the committed κ, already evaluated
 
     def _viscous_moments(self, u, v):
         """The laws' viscous moments ``d κ̇`` (warp, weft) at the quadrature points."""
@@ -647,12 +649,3 @@ class KirchhoffLoveShell:
             u[k::3] = interpolate(self.basis, pick(value), pick(grad), pick(hess))
         return u
 
-
-def _elastic_energy(law, kappa):
-    """Elastic bending energy density ``∫ (k1 κ + k3 κ³) dκ`` of a law (face-down values for κ < 0)."""
-    k1, k3 = law.k1, law.k3
-    if getattr(law, "k1_neg", None) is not None or getattr(law, "k3_neg", None) is not None:
-        neg = kappa < 0
-        k1 = np.where(neg, law.k1 if law.k1_neg is None else law.k1_neg, k1)
-        k3 = np.where(neg, law.k3 if law.k3_neg is None else law.k3_neg, k3)
-    return 0.5 * k1 * kappa ** 2 + 0.25 * k3 * kappa ** 4
