@@ -336,19 +336,16 @@ def _make_mesh(spec):
 
 def build_material(case: Case):
     """The fabric of ``[material]`` with the case's overrides applied (SI)."""
-    from constitutive.material import load_material, material_from_kes
-    from constitutive.units import to_si
+    from constitutive.material import KesSpec, MaterialSpec, load_material, material_from_spec
 
     spec = case.material
     if spec.kes is not None:
-        k = spec.kes
-        material = material_from_kes(
-            case.case.name, to_si(k.B_warp, "B"), to_si(k.B_weft, "B"),
-            to_si(k.HB2_warp, "HB2"), to_si(k.HB2_weft, "HB2"),
-            areal_mass=to_si(k.weight, "weight"),
-            thickness=None if k.thickness is None else to_si(k.thickness, "thickness"),
-            eps_f=to_si(k.eps_f, "eps_f"), eta=k.eta, description=case.case.description,
-            source="case file [material.kes]")
+        # the same builder (and KES -> SI conversion) as a material file's [kes] table
+        k = spec.kes.model_dump()
+        weight, thickness = k.pop("weight"), k.pop("thickness")
+        material = material_from_spec(MaterialSpec(
+            name=case.case.name, description=case.case.description, source="case file [material.kes]",
+            weight=weight, thickness=thickness, kes=KesSpec(**k)), where="material.kes")
     else:
         material = load_material(spec.name if spec.name is not None else spec.path)
     changes = {}
