@@ -537,7 +537,7 @@ class Perturbation(_Section):
     """``lobed``: one mode cos(n φ + φ0) (imposes n folds); ``random``: modes k_min..k_max with
     seeded amplitudes and phases (the fabric picks its node count)."""
     amplitude: float = Field(1e-3, ge=0)
-    """A: metres (target displacement) or m/s (target velocity)."""
+    """A: fraction of the weight (target force), metres (displacement) or m/s (velocity)."""
     seed: int = 0
     """Random seed of the phases/amplitudes (same seed, same field)."""
     n_lobes: int = Field(6, ge=1)
@@ -546,8 +546,11 @@ class Perturbation(_Section):
     """Lowest mode for kind = "random"."""
     k_max: int = Field(12, ge=1)
     """Highest mode for kind = "random"."""
-    target: Literal["displacement", "velocity"] = "displacement"
-    """Apply the field as initial displacement or as initial velocity."""
+    target: Literal["force", "displacement", "velocity"] = "displacement"
+    """``force``: transient load A ρ_A g s g(φ) sin²(π t / duration) on [0, duration] (starts at
+    rest, same on every mesh; recommended); ``displacement``/``velocity``: initial u_z/v_z."""
+    duration: Q("s", gt=0) = 0.2
+    """Length of the transient load of target = "force"."""
 
     @model_validator(mode="after")
     def _modes(self):
@@ -576,6 +579,8 @@ class LoadSpec(_Section):
         ends = [p.end_time() for p in parts if p is not None]
         if self.kes is not None:
             ends.append(self.kes.duration())
+        if self.perturbation is not None and self.perturbation.target == "force":
+            ends.append(self.perturbation.duration)
         return max(ends, default=0.0)
 
 

@@ -61,6 +61,7 @@ __all__ = [
     "ConvergenceError",
     "IntegratorInputError",
     "LaggedLU",
+    "SparseLU",
     "initial_state",
     "newmark_step",
     "integrate",
@@ -237,7 +238,7 @@ class LaggedLU:
         self.solves = 0
 
     def _factorize(self, A):
-        self._lu = spla.splu(sp.csc_matrix(A))
+        self._lu = SparseLU(A)
         self._shape = A.shape
         self.factorizations += 1
 
@@ -280,18 +281,55 @@ def _combine(terms):
     return sp.csr_matrix(out)
 
 
+class SparseLU:
+    """LU factors of a structurally symmetric FE matrix, with a safe fallback.
+
+    Finite-element tangents are structurally symmetric and, in dynamics, dominated by
+    ``M/(βΔt²)``: a minimum-degree ordering of ``A + Aᵀ`` factorized without pivoting
+    (SuperLU's symmetric mode) fills 2.5× less than the default column ordering
+    (COLAMD with partial pivoting) and factorizes about 3× faster on the Cusick
+    shell (``benchmarks/bench_shell.py``). Should that factorization fail or give a
+    poor residual (an indefinite or badly scaled matrix needs pivoting), the default
+    SuperLU factorization is used instead.
+
+    Examples
+    --------
+    >>> A = sp.csc_matrix(np.array([[4.0, 1.0], [1.0, 3.0]]))
+    >>> lu = SparseLU(A)
+    >>> lu.solve(np.array([5.0, 4.0])).round(12), lu.symmetric_mode
+    (array([1., 1.]), True)
+    """
+
+    def __init__(self, A):
+        self.A = sp.csc_matrix(A)
+        self.symmetric_mode = True
+        try:
+            self._lu = spla.splu(self.A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                                 options=dict(SymmetricMode=True))
+            b = self.A @ np.ones(self.A.shape[0])
+            r = self.A @ self._lu.solve(b) - b
+            ok = bool(np.all(np.isfinite(r)) and np.linalg.norm(r) <= 1e-8 * np.linalg.norm(b))
+        except RuntimeError:  # exactly singular pivot without pivoting
+            ok = False
+        if not ok:
+            self.symmetric_mode = False
+            self._lu = spla.splu(self.A)
+
+    def solve(self, b):
+        """``A⁻¹ b``."""
+        return self._lu.solve(np.asarray(b, dtype=float))
+
+
 def _solve(J, rhs, solver=None):
     if solver is not None:
         try:
             return np.asarray(solver(sp.csr_matrix(J), rhs), dtype=float).reshape(rhs.shape)
         except Exception:  # noqa: BLE001 - any solver failure is a failed Newton step
             return np.full_like(rhs, np.nan)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", spla.MatrixRankWarning)
-        try:
-            return spla.spsolve(sp.csc_matrix(J), rhs)
-        except (spla.MatrixRankWarning, RuntimeError):
-            return np.full_like(rhs, np.nan)
+    try:
+        return SparseLU(J).solve(rhs)
+    except RuntimeError:  # singular for the pivoting factorization too
+        return np.full_like(rhs, np.nan)
 
 
 def _newton(evaluate, x0, free, opts: _Newton, info: StepInfo, what: str, offset=0.0):

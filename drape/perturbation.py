@@ -10,9 +10,22 @@ from a small out-of-plane field on the hanging annulus,
           s = \\left(\\frac{\\rho - r_d}{R - r_d}\\right)^2,\\qquad
           g = \\sum_k c_k \\cos(k\\varphi + \\varphi_k),
 
-applied either as initial displacement ``u_z`` (``A`` in m) or as initial velocity
-``v_z`` (``A`` in m/s).  ``s`` vanishes with its slope at the disc edge, so the
-field respects the clamp.  Two kinds:
+applied in one of three ways (``target``):
+
+* ``"force"`` (recommended) — a transient out-of-plane load per unit area
+  ``f_z = A ρ_A g s g(φ) h(t)`` with ``A`` a fraction of the weight and
+  ``h = sin²(π t / duration)`` on ``[0, duration]``, zero after: a seeded draught of
+  air.  The drape starts at rest (consistent initial acceleration), the load is a
+  smooth field integrated by quadrature, hence the same on every mesh, and the
+  settled shape is an equilibrium of gravity alone;
+* ``"displacement"`` — initial ``u_z`` (``A`` in m);
+* ``"velocity"`` — initial ``v_z`` (``A`` in m/s).  With the law's viscosity ``d κ̇``
+  this start is inconsistent at the free hem (``κ̇_rr ≠ 0`` where the moment must
+  vanish): the initial acceleration then carries mesh-scale content that grows with
+  refinement.
+
+``s`` vanishes with its slope at the disc edge, so the field respects the clamp.
+Two kinds:
 
 * ``"lobed"`` — one mode ``k = n_lobes`` with a seeded phase (imposes ``n`` folds);
 * ``"random"`` — modes ``k_min..k_max`` with seeded normal amplitudes and uniform
@@ -34,7 +47,7 @@ class PerturbationError(ValueError):
 
 
 _KINDS = ("none", "lobed", "random")
-_TARGETS = ("displacement", "velocity")
+_TARGETS = ("force", "displacement", "velocity")
 
 
 @dataclass(frozen=True)
@@ -47,14 +60,17 @@ class FoldPerturbation:
         r_d and R (m).
     kind : {"none", "lobed", "random"}
     amplitude : float
-        A: metres (target "displacement") or m/s (target "velocity").
+        A: fraction of the weight (target "force"), metres ("displacement") or m/s
+        ("velocity").
     seed : int
         Seeds the phases (and amplitudes for "random").
     n_lobes : int
         Mode number for "lobed".
     k_min, k_max : int
         Mode range for "random".
-    target : {"displacement", "velocity"}
+    target : {"force", "displacement", "velocity"}
+    duration : float
+        Length (s) of the transient load of target "force".
     centre : tuple of float
 
     Examples
@@ -77,6 +93,7 @@ class FoldPerturbation:
     k_min: int = 2
     k_max: int = 12
     target: str = "displacement"
+    duration: float = 0.2
     centre: tuple = (0.0, 0.0)
 
     def __post_init__(self):
@@ -90,6 +107,8 @@ class FoldPerturbation:
                 "need 0 < disc_radius < specimen_radius")
         if not (np.isfinite(self.amplitude) and self.amplitude >= 0.0):
             raise PerturbationError(f"perturbation.amplitude = {self.amplitude!r}: must be >= 0")
+        if not (np.isfinite(self.duration) and self.duration > 0.0):
+            raise PerturbationError(f"perturbation.duration = {self.duration!r}: must be > 0 (s)")
         if self.kind == "lobed" and self.n_lobes < 1:
             raise PerturbationError(f"perturbation.n_lobes = {self.n_lobes!r}: must be >= 1")
         if self.kind == "random" and not (1 <= self.k_min <= self.k_max):
@@ -137,6 +156,25 @@ class FoldPerturbation:
         """``w`` at points ``x`` of shape (2, ...)."""
         _, _, (s, _, _), (g, _, _) = self._parts(x)
         return self.amplitude * s * g
+
+    def traction(self, x, areal_weight: float):
+        """Force per unit area ``(0, 0, ρ_A g w(x))`` of target "force", shape (3, ...).
+
+        ``areal_weight`` is ``ρ_A g`` [N/m²]; multiply by :meth:`time_profile`.
+        """
+        w = areal_weight * self.value(x)
+        return np.stack([np.zeros_like(w), np.zeros_like(w), w])
+
+    def time_profile(self, t: float) -> float:
+        """``h(t) = sin²(π t / duration)`` on ``[0, duration]``, else 0 (C¹, starts from zero).
+
+        >>> p = FoldPerturbation(0.09, 0.15, target="force", duration=0.2)
+        >>> p.time_profile(0.0), p.time_profile(0.1), p.time_profile(0.3)
+        (0.0, 1.0, 0.0)
+        """
+        if not 0.0 < t < self.duration:
+            return 0.0
+        return float(np.sin(np.pi * t / self.duration) ** 2)
 
     def grad(self, x):
         """``(w_x, w_y)``, shape (2, ...)."""

@@ -459,29 +459,42 @@ def build_model(case: Case, mesh, material):
     # what the shell cannot do is rejected by the case schema (drape.case.Case._consistent)
     clamped = tuple(b for b, kind in spec.supports.items() if kind == "clamped")
     kwargs = {}
+    fold = fold_perturbation(case)
+    if fold is not None and fold.target == "force":
+        weight = float(material.areal_mass) * G_STANDARD
+        kwargs.update(surface_load=(lambda x: fold.traction(x, weight), fold.time_profile))
     if case.load.end_moment is not None:
         kwargs.update(end_moment=loads["end_moment"], load_boundary=case.load.end_moment.boundary)
     return KirchhoffLoveShell(mesh, material, clamped=clamped,
                               gravity=loads.get("gravity", 0.0), rayleigh=rayleigh, **kwargs)
 
 
-def initial_fields(case: Case, model):
-    """Initial (u0, v0): zero, or the seeded fold perturbation of ``[load.perturbation]``.
-
-    The perturbation (``drape.perturbation.FoldPerturbation``) is interpolated on the model's
-    basis (``model.basis``) and used as initial displacement or velocity per its ``target``.
-    """
+def fold_perturbation(case: Case):
+    """The ``[load.perturbation]`` field (``drape.perturbation.FoldPerturbation``) or None."""
     p = case.load.perturbation
     if p is None or p.kind == "none":
+        return None
+    from drape.perturbation import FoldPerturbation
+
+    return FoldPerturbation(disc_radius=0.5 * case.mesh.disc_diameter,
+                            specimen_radius=0.5 * case.mesh.specimen_diameter, **p.model_dump())
+
+
+def initial_fields(case: Case, model):
+    """Initial (u0, v0): zero, or the fold perturbation of target displacement / velocity.
+
+    The perturbation (``drape.perturbation.FoldPerturbation``) is interpolated on the model's
+    basis (``model.basis``); target "force" is a load (:func:`build_model`), not a start.
+    """
+    fold = fold_perturbation(case)
+    if fold is None or fold.target == "force":
         return None, None
-    from drape.perturbation import FoldPerturbation, perturbation_dofs
+    from drape.perturbation import perturbation_dofs
 
     if not hasattr(model, "basis"):
         raise RunInputError("load.perturbation needs a model with a `basis` (the large-rotation shell)")
-    fold = FoldPerturbation(disc_radius=0.5 * case.mesh.disc_diameter,
-                            specimen_radius=0.5 * case.mesh.specimen_diameter, **p.model_dump())
     x0 = perturbation_dofs(model.basis, fold)
-    return (x0, None) if p.target == "displacement" else (None, x0)
+    return (x0, None) if fold.target == "displacement" else (None, x0)
 
 
 # --------------------------------------------------------------------------- running

@@ -207,6 +207,11 @@ class KirchhoffLoveShell:
         Load factor λ(t) on the self-weight ``−ρ_A g e_z``.
     edge_load : callable, optional
         ``t -> (3,)`` dead force per unit reference length [N/m] on ``load_boundary``.
+    surface_load : (callable, float or callable), optional
+        ``(traction, amplitude)``: a dead force per unit reference area
+        ``amplitude(t) * traction(x)`` [N/m²], ``traction`` mapping points ``x`` of shape
+        (2, ...) to (3, ...) (e.g. the transient fold perturbation of a Cusick drape,
+        :meth:`drape.perturbation.FoldPerturbation.traction`).
     end_moment : callable or float, optional
         Follower moment per unit width [N] on ``load_boundary``; positive curls
         the edge towards +z (face-up).
@@ -226,7 +231,7 @@ class KirchhoffLoveShell:
     def __init__(self, mesh, material, *, clamped: Sequence[str] = ("clamped",),
                  fixed_dofs=None, element=None, gravity=1.0,
                  edge_load: Optional[Callable] = None, end_moment=None,
-                 load_boundary: str = "free", rayleigh=(0.0, 0.0), intorder: int = 6,
+                 surface_load=None, load_boundary: str = "free", rayleigh=(0.0, 0.0), intorder: int = 6,
                  g: float = G_STANDARD, chunk: int = 512):
         self.mesh = mesh
         names = [clamped] if isinstance(clamped, str) else list(clamped)
@@ -272,7 +277,13 @@ class KirchhoffLoveShell:
 
         self._setup_edges(load_boundary)
         self._M = self._mass()
-        self._f_gravity = self._gravity_vector()
+        self._f_gravity = self._surface_vector(
+            lambda x: np.stack([0 * x[0], 0 * x[0], -self.rho_A * self.g + 0 * x[0]]))
+        self._f_surface, self.surface_amplitude = None, None
+        if surface_load is not None:
+            traction, amplitude = surface_load
+            self._f_surface = self._surface_vector(traction)
+            self.surface_amplitude = _as_function(amplitude, "surface_load amplitude")
         zero = np.zeros(self.ndofs)
         self.load_scale = 1.0
         self._t_last = 0.0
@@ -325,10 +336,18 @@ class KirchhoffLoveShell:
         Ke = np.einsum("ebc,kl->ebkcl", Me * self.rho_A, np.eye(3))
         return self.pattern.matrix(Ke.reshape(len(Me), 3 * self.nb, 3 * self.nb))
 
-    def _gravity_vector(self):
-        fe = np.zeros((len(self.edofs), self.nb, 3))
-        fe[..., 2] = -self.rho_A * self.g * np.einsum("eqb,eq->eb", self.N, self.w)
+    def _surface_vector(self, traction):
+        """Load vector of a force per unit reference area ``traction(x) -> (3, E, q)``."""
+        f = np.asarray(traction(self.basis.global_coordinates().value), dtype=float)
+        fe = np.einsum("ceq,eqb,eq->ebc", f, self.N, self.w)
         return self.pattern.vector(fe.reshape(len(fe), -1))
+
+    def _dead_surface_force(self, t):
+        """Gravity and the surface load at time ``t`` (without ``load_scale``)."""
+        f = self.gravity(t) * self._f_gravity
+        if self._f_surface is not None:
+            f = f + self.surface_amplitude(t) * self._f_surface
+        return f
 
     # --------------------------------------------------------------- physics
     def _chunks(self):
@@ -475,7 +494,7 @@ class KirchhoffLoveShell:
     def external_force(self, u, t):
         """External force ``f_ext(u, t)`` (gravity, edge load, end moment) × ``load_scale``."""
         fe, _ = self._edge_terms(u, t)
-        return self.load_scale * (self.gravity(t) * self._f_gravity + fe)
+        return self.load_scale * (self._dead_surface_force(t) + fe)
 
     def residual(self, u, v, a, t):
         """Residual and its derivatives.
@@ -502,7 +521,7 @@ class KirchhoffLoveShell:
             Kd = Kd + lam * Kl
         # one CSR pattern for K, C and M: the integrator can add their data directly
         K, C, M = (self.pattern.from_data(d) for d in (Kd, Cd, Md))
-        R = M @ a + C @ v + fint - lam * (self.gravity(t) * self._f_gravity + fe)
+        R = M @ a + C @ v + fint - lam * (self._dead_surface_force(t) + fe)
         return R, K, C, M
 
     def force_scale(self, t):
@@ -599,9 +618,9 @@ class KirchhoffLoveShell:
                    for i, law in enumerate((self.warp_law, self.weft_law)))
         bend += float(np.sum(0.25 * self.twist * kap[..., 2] ** 2 * self.w))
         kinetic = 0.5 * float(v @ (self._M @ v))
-        # potential of the dead loads (gravity, edge force) at the last residual time
+        # potential of the dead loads (gravity, surface and edge force) at the last residual time
         t = self._t_last
-        f_dead = self.gravity(t) * self._f_gravity
+        f_dead = self._dead_surface_force(t)
         if self.edge_load is not None:
             f_dead = f_dead + self._edge_force(t)
         ext = -float(self.load_scale * f_dead @ u)
