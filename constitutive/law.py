@@ -172,10 +172,6 @@ class BendingState:
             M, dM = np.broadcast_to(M, self.shape).copy(), np.broadcast_to(dM, self.shape).copy()
         return M, dM
 
-    def elastic(self, kappa):
-        """Elastic moment and tangent (see :meth:`BendingLaw.elastic`)."""
-        return self.law.elastic(kappa)
-
     def friction_moment(self, kappa):
         """Friction moment alone at a trial curvature (zeros without friction)."""
         if self.friction is None:

@@ -125,11 +125,6 @@ class FabricMaterial:
         need("nu12", 0 <= self.nu12 and self.nu12**2 * self.E22 / self.E11 < 1,
              "0 <= nu12 and nu12² E22/E11 < 1 (positive definite membrane stiffness)")
 
-    @property
-    def laws(self):
-        """``(warp, weft)``: the laws for κ_11 and κ_22."""
-        return self.warp, self.weft
-
     def simulated_kes(self, **profile_kw) -> dict:
         """B and 2HB of each direction from a simulated KES-FB test (SI)."""
         prof = kes_profile(**profile_kw)

@@ -255,10 +255,6 @@ class ElementTriArgyrisLocal(ElementTriArgyris):
         value, grad, hess = self._evaluate(mapping, X, tind)
         return (DiscreteField(value=value[i], grad=grad[i], hess=hess[i]),)
 
-    def clear_cache(self) -> None:
-        """Drop the cached Vandermonde inverse and the last evaluation."""
-        self.__init__(self.node_frames)
-
 
 def interpolate(basis, value: Callable, grad: Optional[Callable] = None,
                 hess: Optional[Callable] = None) -> ndarray:

@@ -211,6 +211,9 @@ class CusickMesh(_MeshBase):
     """Divisions around the circumference, even (default: mid circumference / target_size)."""
     refine: int = Field(0, ge=0)
     """Uniform refinements (divisions × 2**refine) for convergence studies."""
+    radial_grading: float = Field(1.0, ge=1.0)
+    """Outermost over innermost ring width (1: uniform); finer rings at the clamped disc edge,
+    where a limp fabric turns down within about one bending length."""
 
     @model_validator(mode="after")
     def _disc_inside(self):

@@ -297,7 +297,6 @@ class KirchhoffPlate:
         mass = pat.matrix(element_matrix(self._N, self._N, self._dx)).data * rho
         self._twist_data = twist
         self.K_twist = pat.from_data(twist)
-        self.M_translational = pat.from_data(mass)
         k0 = _coef(self.warp, "k1") * unit["xx"] + _coef(self.weft, "k1") * unit["yy"] + twist
         self.K0 = pat.from_data(k0)
         m_data = mass if translational_inertia else np.zeros_like(mass)

@@ -323,7 +323,8 @@ def _make_mesh(spec):
         mesh = meshes.cusick_annulus(spec.specimen_diameter, spec.disc_diameter,
                                      n_radial=spec.n_radial,
                                      n_circumferential=spec.n_circumferential,
-                                     target_size=spec.target_size, refine=spec.refine)
+                                     target_size=spec.target_size, refine=spec.refine,
+                                     radial_grading=spec.radial_grading)
     else:
         try:
             mesh = meshes.load_mesh(spec.path, scale=spec.scale)

@@ -31,7 +31,7 @@ __all__ = ["cusick_annulus"]
 def cusick_annulus(specimen_diameter: float = 0.30, disc_diameter: float = 0.18,
                    n_radial: int | None = None, n_circumferential: int | None = None,
                    target_size: float = 0.01, refine: int = 0,
-                   centre=(0.0, 0.0)) -> MeshTri:
+                   centre=(0.0, 0.0), radial_grading: float = 1.0) -> MeshTri:
     """Structured triangle mesh of the overhanging annulus of a Cusick specimen.
 
     Parameters
@@ -50,6 +50,11 @@ def cusick_annulus(specimen_diameter: float = 0.30, disc_diameter: float = 0.18,
         multiplied by ``2**refine`` (nodes stay on the circles).
     centre
         Centre of the disc.
+    radial_grading
+        Width of the outermost ring over that of the innermost (>= 1; 1: uniform). The
+        ring widths grow geometrically from the disc, where a limp fabric bends from
+        horizontal to hanging within about one bending length (a boundary layer the
+        mesh must resolve). Refinement keeps the ratio, so the family stays similar.
 
     Returns
     -------
@@ -63,6 +68,10 @@ def cusick_annulus(specimen_diameter: float = 0.30, disc_diameter: float = 0.18,
     >>> fine = cusick_annulus(n_radial=3, n_circumferential=24, refine=1)
     >>> fine.t.shape[1] == 4 * coarse.t.shape[1]
     True
+    >>> graded = cusick_annulus(n_radial=3, n_circumferential=24, radial_grading=4.0)
+    >>> rings = np.unique(np.hypot(*graded.p).round(9))
+    >>> np.round(np.diff(rings) * 100, 3).tolist()     # cm: 6 cm overhang, ratio 4 = 2**2
+    [0.857, 1.714, 3.429]
     """
     D = positive("specimen_diameter", specimen_diameter)
     d = positive("disc_diameter", disc_diameter)
@@ -70,6 +79,9 @@ def cusick_annulus(specimen_diameter: float = 0.30, disc_diameter: float = 0.18,
         raise ValueError(f"'specimen_diameter' ({D}) must exceed 'disc_diameter' ({d})")
     h = positive("target_size", target_size)
     refine = positive_int("refine", refine, minimum=0)
+    grading = float(radial_grading)
+    if not (math.isfinite(grading) and grading >= 1.0):
+        raise ValueError(f"'radial_grading' = {radial_grading!r} must be a number >= 1 (1: uniform rings)")
     r_in, r_out = d / 2, D / 2
     if n_radial is None:
         n_radial = max(1, math.ceil((r_out - r_in) / h - 1e-9))
@@ -80,7 +92,9 @@ def cusick_annulus(specimen_diameter: float = 0.30, disc_diameter: float = 0.18,
     if nc % 2:
         raise ValueError(f"'n_circumferential' must be even (symmetric diagonals), got {nc}")
     cx, cy = (float(v) for v in centre)
-    radius = np.linspace(r_in, r_out, nr + 1)
+    q = grading ** (1.0 / (nr - 1)) if nr > 1 else 1.0
+    widths = q ** np.arange(nr)
+    radius = r_in + (r_out - r_in) * np.concatenate([[0.0], np.cumsum(widths) / widths.sum()])
     radius[0], radius[-1] = r_in, r_out
     theta = 2 * np.pi * np.arange(nc) / nc
     R, T = np.meshgrid(radius, theta, indexing="ij")          # (nr+1, nc), ring-major

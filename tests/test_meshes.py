@@ -67,6 +67,26 @@ def test_cusick_annulus_defaults_from_target_size():
     assert len(np.unique(np.round(np.hypot(*mesh.p), 12))) == 4
 
 
+def test_cusick_annulus_radial_grading():
+    """Ring widths grow geometrically by the given outer/inner ratio; area and boundary
+    nodes are those of the uniform mesh; refinement keeps the ratio."""
+    nr, nc, ratio = 4, 32, 5.0
+    mesh = cusick_annulus(0.30, 0.18, n_radial=nr, n_circumferential=nc, radial_grading=ratio)
+    widths = np.diff(np.unique(np.round(np.hypot(*mesh.p), 12)))
+    assert widths.sum() == pytest.approx(0.06, abs=1e-14)
+    assert widths[-1] / widths[0] == pytest.approx(ratio, rel=1e-9)
+    np.testing.assert_allclose(widths[1:] / widths[:-1], ratio ** (1 / (nr - 1)), rtol=1e-9)
+    uniform = cusick_annulus(0.30, 0.18, n_radial=nr, n_circumferential=nc)
+    assert np.abs(triangle_areas(mesh.p, mesh.t)).sum() == pytest.approx(
+        np.abs(triangle_areas(uniform.p, uniform.t)).sum(), rel=1e-13)
+    fine = cusick_annulus(0.30, 0.18, n_radial=nr, n_circumferential=nc, radial_grading=ratio,
+                          refine=1)
+    w2 = np.diff(np.unique(np.round(np.hypot(*fine.p), 12)))
+    assert w2.size == 2 * nr and w2[-1] / w2[0] == pytest.approx(ratio, rel=1e-9)
+    with pytest.raises(ValueError, match="radial_grading"):
+        cusick_annulus(radial_grading=0.5)
+
+
 def write_square_msh(path, file_format, with_group=True):
     """Unit square in millimetres with a 4-node hole-free fan, and a tagged left edge."""
     points = np.array([[0, 0, 0], [10, 0, 0], [10, 10, 0], [0, 10, 0], [5, 5, 0.]])
