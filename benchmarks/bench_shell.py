@@ -7,10 +7,14 @@
    (DESIGN.md §4, trap d).  The two must agree to 1e-10 (relative, max norm);
    the speed-up is printed.  Also the full nonlinear residual + consistent
    tangent at a deformed state.
-2. The default cantilever case (``cases/cantilever.toml``, full hysteretic law)
+2. The Newton linear solve on the Cusick annulus (``meshes.cusick_annulus``, Fabric 1):
+   the Newmark tangent ``K + γ/(βΔt) C + M/(βΔt²)`` at a sagging state factorized by
+   :class:`drape.newmark.SparseLU` (minimum degree on A + Aᵀ, no pivoting) against
+   scipy's default ``spsolve`` (COLAMD, partial pivoting): time, fill, residual.
+3. The default cantilever case (``cases/cantilever.toml``, full hysteretic law)
    run through the case runner: simulated seconds per wall-clock second.
 
-Run: ``python benchmarks/bench_shell.py [--nx 16] [--ny 4] [--repeat 5] [--no-case]``
+Run: ``python benchmarks/bench_shell.py [--nx 16] [--ny 4] [--repeat 5] [--annulus 4x48 6x72 8x96] [--no-case]``
 """
 
 from __future__ import annotations
@@ -102,6 +106,42 @@ def bench_assembly(nx, ny, repeat):
                 t_residual=t_res)
 
 
+def bench_linear_solve(sizes, repeat):
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    from drape.newmark import SparseLU
+    from meshes import cusick_annulus
+
+    mat = load_material("fabric1")
+    dt, beta, gamma = 0.01, 0.3025, 0.6          # HHT alpha = -0.1, as in cases/cusick_*.toml
+    out = {}
+    for size in sizes:
+        nr, nc = (int(v) for v in size.split("x"))
+        shell = KirchhoffLoveShell(cusick_annulus(n_radial=nr, n_circumferential=nc), mat,
+                                   clamped=("disc",))
+        u = np.zeros(shell.ndofs)
+        u[2::3] = -2e-3 * np.random.default_rng(0).random(shell.basis.N)   # a rough sag
+        u[shell.fixed_dofs] = 0.0
+        _, K, C, M = shell.residual(u, 0 * u, 0 * u, 0.0)
+        free = np.setdiff1d(np.arange(shell.ndofs), shell.fixed_dofs)
+        J = (K + gamma / (beta * dt) * C + M / (beta * dt**2)).tocsr()[free][:, free].tocsc()
+        b = np.random.default_rng(1).standard_normal(free.size)
+        t_ref, x_ref = timeit(lambda: spla.spsolve(J, b), repeat)
+        t_new, lu = timeit(lambda: SparseLU(J), repeat)
+        x = lu.solve(b)
+        res = lambda y: np.linalg.norm(J @ y - b) / np.linalg.norm(b)  # noqa: E731
+        fill_ref = spla.splu(J).L.nnz + spla.splu(J).U.nnz
+        fill_new = lu._lu.L.nnz + lu._lu.U.nnz
+        print(f"annulus {size}: {free.size} free dofs, nnz {J.nnz}")
+        print(f"  spsolve (COLAMD, pivoting)   : {t_ref:8.3f} s  fill {fill_ref:>10d}  residual {res(x_ref):.1e}")
+        print(f"  SparseLU (MMD A+Aᵀ, symmetric): {t_new:8.3f} s  fill {fill_new:>10d}  residual {res(x):.1e}"
+              f"  (symmetric mode: {lu.symmetric_mode})")
+        print(f"  speed-up {t_ref / t_new:.1f} x, fill ratio {fill_ref / fill_new:.1f}")
+        out[size] = dict(t_spsolve=t_ref, t_sparse_lu=t_new, fill_ratio=fill_ref / fill_new)
+    return out
+
+
 def bench_case(case):
     with tempfile.TemporaryDirectory() as out:
         t0 = time.perf_counter()
@@ -131,9 +171,12 @@ def main(argv=None):
     p.add_argument("--repeat", type=int, default=5, help="timing repeats, best taken (default 5)")
     p.add_argument("--case", type=Path, default=ROOT / "cases" / "cantilever.toml",
                    help="case file for the simulated-time rate (default cases/cantilever.toml)")
+    p.add_argument("--annulus", nargs="*", default=["4x48", "6x72"], metavar="NRxNC",
+                   help="Cusick annuli for the linear-solve comparison (default 4x48 6x72)")
     p.add_argument("--no-case", action="store_true", help="skip the case run")
     args = p.parse_args(argv)
     bench_assembly(args.nx, args.ny, args.repeat)
+    bench_linear_solve(args.annulus, max(1, args.repeat // 2))
     if not args.no_case:
         bench_case(args.case)
 

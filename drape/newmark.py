@@ -332,6 +332,18 @@ def _solve(J, rhs, solver=None):
         return np.full_like(rhs, np.nan)
 
 
+#: A line search that has halved the Newton update to 1/32 accepts it only if the residual has
+#: grown less than this factor (mild growth: a friction point cycling between stick and slip).
+_LINE_SEARCH_GROWTH = 10.0
+#: The natural-monotonicity test alone never accepts a Newton update longer than
+#: ``_UPDATE_GROWTH`` times the step's first one, nor one that raised |R| more than
+#: ``_RESIDUAL_GROWTH``-fold: the tangent was near-singular there. (The shell tests accept
+#: updates up to 54x the first and residual growth up to 2.8e3; a Cusick drape forming its
+#: folds had a 280x update that raised |R| 2e8-fold and sent Newton off.)
+_UPDATE_GROWTH = 100.0
+_RESIDUAL_GROWTH = 1e5
+
+
 def _newton(evaluate, x0, free, opts: _Newton, info: StepInfo, what: str, offset=0.0):
     """Newton on the free entries of ``x`` for ``evaluate(x) -> (R, J, scale)``.
 
@@ -352,10 +364,15 @@ def _newton(evaluate, x0, free, opts: _Newton, info: StepInfo, what: str, offset
     falls (up to 5 times): the friction tangent jumps where a material point
     reverses (stick vs slip), and plain Newton can cycle between the two sides;
     there the next update is as long as the last and the test above fails.
+    The last, 1/32 step is taken even if the residual grew mildly (at most
+    ``_LINE_SEARCH_GROWTH``×); a larger growth fails the iteration, so the
+    integrator cuts the time step (near a buckling point the tangent can send
+    Newton far off, e.g. a Cusick drape forming its folds).
     """
     x = x0.copy()
     ref = 0.0
     last_du = du_next = None
+    first_du = None
     restrict = _Restriction(free)
     R, J, scale = evaluate(x)
     r = float(np.linalg.norm(R[free]))
@@ -383,23 +400,38 @@ def _newton(evaluate, x0, free, opts: _Newton, info: StepInfo, what: str, offset
             info.increment_norms.append(float("nan"))
             break
         du_norm = float(np.linalg.norm(du))
+        first_du = du_norm if first_du is None else first_du
         step = 1.0
         for _ in range(6):
             x_try = x.copy()
             x_try[free] += step * du
             R_try, J_try, scale_try = evaluate(x_try)
             r_try = float(np.linalg.norm(R_try[free]))
-            if r_try <= (1.0 - 1e-4 * step) * r or step < 0.05:
+            if r_try <= (1.0 - 1e-4 * step) * r:
+                break
+            if step < 0.05:
+                if not r_try <= _LINE_SEARCH_GROWTH * r:
+                    # even 1/32 of the update raises |R| tenfold: the tangent does not point
+                    # downhill (a near-singular tangent at a buckling point); give up so that
+                    # the integrator retries with a shorter step instead of walking off
+                    r_try = float("nan")
                 break
             if step == 1.0 and np.isfinite(r_try):
                 # natural monotonicity (Deuflhard): the full step is good when the next Newton
                 # update shrinks, even if |R| grew (a stiff membrane turns the first bending step's
-                # tiny stretch into a large force); its solve is reused, so acceptance costs nothing
-                cand = _solve(restrict(J_try), -R_try[free], opts.linear_solver)
-                if np.all(np.isfinite(cand)) and float(np.linalg.norm(cand)) <= 0.5 * du_norm:
-                    du_next = cand
-                    break
+                # tiny stretch into a large force); its solve is reused, so acceptance costs nothing.
+                # Not for an update far longer than the step's first one: a near-singular tangent
+                # (a Cusick drape forming its folds) sends it far off, where the next update can
+                # look small too.
+                if du_norm <= _UPDATE_GROWTH * first_du and r_try <= _RESIDUAL_GROWTH * r:
+                    cand = _solve(restrict(J_try), -R_try[free], opts.linear_solver)
+                    if np.all(np.isfinite(cand)) and float(np.linalg.norm(cand)) <= 0.5 * du_norm:
+                        du_next = cand
+                        break
             step *= 0.5
+        if not np.isfinite(r_try):
+            info.residual_norms.append(r_try)
+            break
         x, R, J, scale, r = x_try, R_try, J_try, scale_try, r_try
         last_du = step * du_norm
         info.increment_norms.append(last_du)
