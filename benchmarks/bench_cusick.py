@@ -5,10 +5,11 @@ Studies (each a set of runs of cases/cusick_*.toml with dotted overrides):
 * ``fabrics``      Fabric 1, Fabric 2 and the KES-only material (cases/cusick_*.toml as they are):
                    DC, nodes, node depths, settling time, wall time.
 * ``friction``     Fabric 1 with and without the dry-friction (hysteresis) moment.
-* ``sweep``        five elastic materials (Fabric 1 with friction, viscosity and k3 removed,
-                   k1 set so the bending length c = (k1/(rho_A g))^(1/3) is 4 ... 1 cm)
-                   plus one stiff material with c >= overhang: DC must fall monotonically as
-                   k1 falls, and the stiff one must stay near 100 %.
+* ``sweep``        Fabric 1 with every bending moment scaled ([material] bending_scale = s:
+                   k1, k3, d, f1, f2 x s), s = 100, 30, 10, 3, 1, i.e. warp bending length
+                   c = (k1/(rho_A g))^(1/3) = 3.3 ... 0.72 cm, plus s = 1000 (c = 7.2 cm, more
+                   than the 6 cm overhang): DC must fall monotonically as s falls, and the stiff
+                   one must stay near 100 %.
 * ``convergence``  Fabric 1 on the default mesh (4 x 48), on 6 x 72 (x1.5) and on one uniform
                    refinement (mesh.refine = 1, 8 x 96; long): DC change (points) and node counts.
                    ``--only fabric1_refine0 fabric1_x1.5`` for the affordable pair.
@@ -34,8 +35,10 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 G = 9.80665
-#: Bending lengths (cm) of the five elastic materials of the sweep, stiff to limp.
-SWEEP_CM = (4.0, 3.0, 2.0, 1.5, 1.0)
+#: Bending-moment scales of Fabric 1 in the sweep, stiff to limp, and the one stiffer than
+#: its weight (bending length > overhang).
+SWEEP_SCALES = (100, 30, 10, 3, 1)
+STIFF_SCALE = 1000
 
 
 def _run(args):
@@ -59,20 +62,15 @@ def _run(args):
                 steps=s.get("steps"), wall_s=time.perf_counter() - t0, out=str(out))
 
 
-def _elastic(k1: float) -> list[str]:
-    """Fabric 1 turned into a purely elastic, isotropic-in-bending material of rigidity k1 [N m]."""
-    return ["material.friction=false", f"material.k1={k1!r}", "material.k3=0.0", "material.d=0.0"]
+def bending_length(scale: float, direction: str = "warp") -> float:
+    """Bending length c = (k1/(rho_A g))^(1/3) [m] of Fabric 1 with its moments times ``scale``."""
+    from constitutive.material import load_material
 
-
-def bending_length_rigidity(c: float, areal_mass: float) -> float:
-    """k1 [N m] giving the bending length c [m]: c = (k1 / (rho_A g))^(1/3)."""
-    return areal_mass * G * c**3
+    m = load_material("fabric1")
+    return (scale * getattr(m, direction).k1 / (m.areal_mass * G)) ** (1 / 3)
 
 
 def studies(which: list[str], extra: list[str]):
-    from constitutive.material import load_material
-
-    rho1 = load_material("fabric1").areal_mass
     runs = []
     if "fabrics" in which:
         for name in ("cusick_fabric1", "cusick_fabric2", "cusick_kes"):
@@ -81,12 +79,12 @@ def studies(which: list[str], extra: list[str]):
         runs.append(("fabric1_friction", "cases/cusick_fabric1.toml", list(extra)))
         runs.append(("fabric1_no_friction", "cases/cusick_fabric1.toml",
                      ["material.friction=false"] + extra))
+        runs.append(("kes_friction", "cases/cusick_kes.toml", list(extra)))
+        runs.append(("kes_no_friction", "cases/cusick_kes.toml", ["material.friction=false"] + extra))
     if "sweep" in which:
-        for c_cm in SWEEP_CM:
-            k1 = bending_length_rigidity(c_cm / 100, rho1)
-            runs.append((f"sweep_c{c_cm:g}cm", "cases/cusick_fabric1.toml", _elastic(k1) + extra))
-        k1 = bending_length_rigidity(0.10, rho1)  # c = 10 cm > 6 cm overhang
-        runs.append(("stiff_c10cm", "cases/cusick_fabric1.toml", _elastic(k1) + extra))
+        for scale in SWEEP_SCALES + (STIFF_SCALE,):
+            runs.append((f"sweep_s{scale:g}", "cases/cusick_fabric1.toml",
+                         [f"material.bending_scale={scale!r}"] + extra))
     if "convergence" in which:
         runs.append(("fabric1_refine0", "cases/cusick_fabric1.toml", ["mesh.refine=0"] + extra))
         runs.append(("fabric1_x1.5", "cases/cusick_fabric1.toml",
@@ -115,19 +113,23 @@ def _table(records):
 def _checks(records):
     by = {r["label"]: r for r in records if "error" not in r}
     out = []
-    sweep = [by.get(f"sweep_c{c:g}cm") for c in SWEEP_CM]
+    sweep = [by.get(f"sweep_s{s:g}") for s in SWEEP_SCALES]
     if all(sweep):
         dcs = [r["dc_percent"] for r in sweep]
         mono = all(a > b for a, b in zip(dcs, dcs[1:]))
-        out.append(f"sweep DC (c = {', '.join(f'{c:g}' for c in SWEEP_CM)} cm): {', '.join(f'{d:.1f}' for d in dcs)} % "
-                   f"-> monotonic decrease: {mono}")
-    if "stiff_c10cm" in by:
-        out.append(f"stiff (c = 10 cm >= 6 cm overhang): DC = {by['stiff_c10cm']['dc_percent']:.1f} %")
-    if "fabric1_friction" in by and "fabric1_no_friction" in by:
-        a, b = by["fabric1_friction"], by["fabric1_no_friction"]
-        out.append(f"friction: DC {a['dc_percent']:.2f} % vs friction-free {b['dc_percent']:.2f} % "
-                   f"(difference {a['dc_percent'] - b['dc_percent']:+.2f} points; nodes {a['n_nodes']} vs "
-                   f"{b['n_nodes']})")
+        cs = ", ".join(f"{100 * bending_length(s):.2f}" for s in SWEEP_SCALES)
+        out.append(f"sweep DC (bending_scale {', '.join(f'{s:g}' for s in SWEEP_SCALES)}; warp c = {cs} cm): "
+                   f"{', '.join(f'{d:.1f}' for d in dcs)} % -> monotonic decrease: {mono}")
+    stiff = by.get(f"sweep_s{STIFF_SCALE:g}")
+    if stiff:
+        out.append(f"stiff (bending_scale {STIFF_SCALE:g}, warp c = {100 * bending_length(STIFF_SCALE):.1f} cm "
+                   f">= 6 cm overhang): DC = {stiff['dc_percent']:.1f} %")
+    for name in ("fabric1", "kes"):
+        a, b = by.get(f"{name}_friction"), by.get(f"{name}_no_friction")
+        if a and b:
+            out.append(f"friction ({name}): DC {a['dc_percent']:.2f} % vs friction-free {b['dc_percent']:.2f} % "
+                       f"(difference {a['dc_percent'] - b['dc_percent']:+.2f} points; nodes {a['n_nodes']} vs "
+                       f"{b['n_nodes']})")
     for fine in ("fabric1_x1.5", "fabric1_refine1"):
         if "fabric1_refine0" in by and fine in by:
             a, b = by["fabric1_refine0"], by[fine]
@@ -144,8 +146,8 @@ def _plot_sweep(records, out_dir: Path):
 
     pts = []
     for r in records:
-        if r["label"].startswith(("sweep_c", "stiff_c")) and "error" not in r:
-            c = float(r["label"].split("_c")[1].removesuffix("cm"))
+        if r["label"].startswith("sweep_s") and "error" not in r:
+            c = 100 * bending_length(float(r["label"].removeprefix("sweep_s")))
             pts.append((c, r["dc_percent"]))
     if not pts:
         return None
@@ -153,7 +155,8 @@ def _plot_sweep(records, out_dir: Path):
     fig, ax = plt.subplots(figsize=(5, 3.5))
     ax.plot(*zip(*pts), "o-")
     ax.axvline(6.0, ls="--", color="0.5", label="overhang 6 cm")
-    ax.set_xlabel("bending length c [cm]")
+    ax.set_xscale("log")
+    ax.set_xlabel("warp bending length c = (k1 / rho_A g)^(1/3) [cm] (Fabric 1 x bending_scale)")
     ax.set_ylabel("drape coefficient [%]")
     ax.set_ylim(0, 105)
     ax.legend()

@@ -25,6 +25,7 @@ array([ 1.4881, -1.4881])
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -96,6 +97,27 @@ class BendingLaw:
     def symmetric(self) -> bool:
         """True if face-up and face-down stiffnesses are the same."""
         return self.k1_neg is None and self.k3_neg is None
+
+    def scaled(self, factor: float) -> "BendingLaw":
+        """The same fabric with every moment multiplied by ``factor`` (> 0).
+
+        k1, k3, d, m and the friction moments f1, f2 scale; the friction lengths ε_f, η do
+        not, so the loop keeps its shape in curvature and the bending length grows as
+        ``factor**(1/3)``.
+
+        >>> law = BendingLaw(k1=1e-6, d=1e-7, friction=FrictionParams(2e-4, 1e-4, 50.0, 0.5))
+        >>> twice = law.scaled(2.0)
+        >>> float(twice.k1), float(twice.friction.f1), float(twice.friction.eps_f)
+        (2e-06, 0.0004, 50.0)
+        """
+        if not (np.isfinite(factor) and factor > 0):
+            raise ParameterError(f"scale factor = {factor!r} breaks factor > 0")
+        fr = self.friction
+        if fr is not None:
+            fr = dataclasses.replace(fr, f1=factor * fr.f1, f2=factor * fr.f2)
+        moments = {k: factor * getattr(self, k) for k in ("k1", "k3", "d", "m", "k1_neg", "k3_neg")
+                   if getattr(self, k) is not None}
+        return dataclasses.replace(self, friction=fr, **moments)
 
     def elastic(self, kappa):
         """Elastic moment ``k1 κ + k3 κ³`` (face-down values for κ < 0) and tangent.

@@ -312,6 +312,9 @@ class MaterialSpec(LawOverride):
     """Override the thickness [m]."""
     friction: bool = True
     """``false`` drops the hysteretic friction moment (for friction-free comparisons)."""
+    bending_scale: float = Field(1.0, gt=0)
+    """Multiplies every bending moment of both laws (k1, k3, d, m, f1, f2; not ε_f, η), after the
+    overrides: the same fabric made stiffer or limper (bending length × bending_scale^(1/3))."""
     warp: LawOverride = LawOverride()
     """Overrides of the warp law (acts on κ_xx)."""
     weft: LawOverride = LawOverride()

@@ -352,9 +352,13 @@ def build_material(case: Case):
     changes = {}
     for direction in ("warp", "weft"):
         over = spec.law_overrides(direction)
+        law = getattr(material, direction)
         if over or not spec.friction:
-            changes[direction] = _override_law(getattr(material, direction), over, spec.friction,
-                                               direction)
+            law = _override_law(law, over, spec.friction, direction)
+        if spec.bending_scale != 1.0:
+            law = law.scaled(spec.bending_scale)
+        if law is not getattr(material, direction):
+            changes[direction] = law
     for key, value in (("areal_mass", spec.areal_mass), ("thickness", spec.thickness),
                        ("twist_rigidity", case.model.twist_rigidity)):
         if value is not None:

@@ -343,3 +343,25 @@ def test_kes_summary_material_uses_the_material_library_units():
     assert material.areal_mass == pytest.approx(0.125, rel=1e-12)
     assert material.thickness == pytest.approx(3.0e-4, rel=1e-12)
     assert material.simulated_kes()["warp"].B == pytest.approx(case.material.kes.B_warp * 9.80665e-5, rel=0.02)
+
+
+def test_bending_scale_makes_the_same_fabric_stiffer():
+    """[material] bending_scale = 8 multiplies every moment of both laws (so the simulated KES
+    B and 2HB, and the default twist rigidity) by 8, keeps the friction lengths and the weight:
+    the bending length doubles."""
+    base = load_case(Path(__file__).parents[1] / "cases" / "cusick_fabric1.toml")
+    stiff = load_case(Path(__file__).parents[1] / "cases" / "cusick_fabric1.toml",
+                      ["material.bending_scale=8"])
+    a, b = runner.build_material(base), runner.build_material(stiff)
+    assert b.areal_mass == a.areal_mass
+    assert b.twist_rigidity == pytest.approx(8 * a.twist_rigidity, rel=1e-12)
+    for d in ("warp", "weft"):
+        la, lb = getattr(a, d), getattr(b, d)
+        assert lb.friction.eps_f == la.friction.eps_f and lb.friction.eta == la.friction.eta
+        ka, kb = a.simulated_kes()[d], b.simulated_kes()[d]
+        assert kb.B == pytest.approx(8 * ka.B, rel=1e-9)
+        assert kb.HB2 == pytest.approx(8 * ka.HB2, rel=1e-9)
+        c = lambda law, m: (law.k1 / (m.areal_mass * 9.80665)) ** (1 / 3)  # noqa: E731
+        assert c(lb, b) == pytest.approx(2 * c(la, a), rel=1e-12)
+    with pytest.raises(Exception, match="bending_scale"):
+        load_case(Path(__file__).parents[1] / "cases" / "cusick_fabric1.toml", ["material.bending_scale=0"])
