@@ -396,13 +396,18 @@ class ModelSpec(_Section):
     translational_inertia: bool = True
     """``false`` drops the areal mass from the inertia (pure bending, as in the KES-FB
     tester; small kinematics only)."""
+    membrane_strain_degree: int | None = Field(None, ge=0, le=4)
+    """Large kinematics: project the membrane strain per triangle onto polynomials of this
+    degree (assumed strain against membrane locking of folds on coarse meshes); absent: the
+    consistent strain."""
 
     @model_validator(mode="after")
     def _membrane_needs_large(self):
-        if self.membrane is not None and self.kinematics != "large":
-            raise _rule(
-                f"@.membrane is only used with @.kinematics = 'large' (got '{self.kinematics}')"
-            )
+        for key in ("membrane", "membrane_strain_degree"):
+            if getattr(self, key) is not None and self.kinematics != "large":
+                raise _rule(
+                    f"@.{key} is only used with @.kinematics = 'large' (got '{self.kinematics}')"
+                )
         return self
 
 

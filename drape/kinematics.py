@@ -246,7 +246,7 @@ class KLPoint:
               + self.dN[:, :, None, :, 0, None] * c2[:, :, :, None, :]).reshape(e, q, 3, -1)
         return kdot, g
 
-    def tangent(self, C_m, N, M, D, w):
+    def tangent(self, C_m, N, M, D, w, strain_projection=None):
         """Element tangent ``Σ_q w (∂²W/∂u_I∂u_J)``, shape (e, 3 nb, 3 nb).
 
         Material parts ``∂εᵀ C_m ∂ε`` and ``∂κᵀ D ∂κ`` plus the geometric parts
@@ -257,7 +257,9 @@ class KLPoint:
         ----------
         C_m : (3, 3) membrane stiffness; N : (e, q, 3) membrane forces;
         M : (e, q, 3) moments; D : (e, q, 3) moment tangents dM_v/dκ_v;
-        w : (e, q) quadrature weights.
+        w : (e, q) quadrature weights; strain_projection : (q, q), optional
+        projection of the membrane strain (:func:`polynomial_projection`), then ``N``
+        must be the forces of the projected strain.
         """
         da3, dn = self.normal_variation()
         de = self.strain_variation()
@@ -274,7 +276,9 @@ class KLPoint:
         A = np.empty((e, nq, 12, nd))
         B = np.empty((e, nq, 12, nd))
         A[:, :, 0:3] = de
-        B[:, :, 0:3] = np.matmul(C_m, de) * w[..., None, None]
+        # projected strain: ∫ (P ∂ε)ᵀ C (P ∂ε) = ∫ ∂εᵀ C (P ∂ε) (P self-adjoint, C P ∂ε in range(P))
+        dep = de if strain_projection is None else np.einsum("pq,eqvI->epvI", strain_projection, de)
+        B[:, :, 0:3] = np.matmul(C_m, dep) * w[..., None, None]
         A[:, :, 3:6] = dk
         B[:, :, 3:6] = dk * (D * w[..., None])[..., None]
         A[:, :, 6:9] = np.swapaxes(da3, 2, 3)
@@ -305,6 +309,48 @@ class KLPoint:
             T[:, :, :, k, k] += G
         K += np.transpose(T, (0, 1, 3, 2, 4)).reshape(e, nd, nd)
         return K
+
+
+def polynomial_projection(X, W, degree: int):
+    """L²(W) projection of quadrature-point values onto polynomials of total ``degree``.
+
+    Parameters
+    ----------
+    X : ndarray, shape (2, q)
+        Quadrature points on the reference triangle.
+    W : ndarray, shape (q,)
+        Their weights.
+    degree : int
+        Polynomial degree (>= 0).
+
+    Returns
+    -------
+    ndarray, shape (q, q)
+        ``P`` with ``(P f)_p = Σ_q P_pq f_q``; on affine elements the same for every element
+        (the weights scale by the constant Jacobian). Self-adjoint in the weighted inner
+        product: ``Σ w a (P b) = Σ w (P a) b``.
+
+    Examples
+    --------
+    A quadratic is its own projection onto degree 2, not onto degree 1:
+
+    >>> from skfem.quadrature import get_quadrature
+    >>> from skfem.refdom import RefTri
+    >>> X, W = get_quadrature(RefTri, 6)
+    >>> f = X[0] ** 2 - X[0] * X[1]
+    >>> bool(np.allclose(polynomial_projection(X, W, 2) @ f, f))
+    True
+    >>> bool(np.allclose(polynomial_projection(X, W, 1) @ f, f))
+    False
+    """
+    if degree < 0:
+        raise ValueError(f"degree = {degree!r} must be >= 0")
+    powers = [(i, k - i) for k in range(degree + 1) for i in range(k + 1)]
+    V = np.stack([X[0] ** a * X[1] ** b for a, b in powers], axis=1)      # (q, m)
+    if V.shape[1] > V.shape[0]:
+        raise ValueError(f"degree {degree} needs {V.shape[1]} quadrature points, the rule has {V.shape[0]}")
+    G = V.T @ (W[:, None] * V)
+    return V @ np.linalg.solve(G, V.T * W)
 
 
 def gram(A, B):

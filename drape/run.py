@@ -471,7 +471,8 @@ def build_model(case: Case, mesh, material):
     if case.load.end_moment is not None:
         kwargs.update(end_moment=loads["end_moment"], load_boundary=case.load.end_moment.boundary)
     return KirchhoffLoveShell(mesh, material, clamped=clamped,
-                              gravity=loads.get("gravity", 0.0), rayleigh=rayleigh, **kwargs)
+                              gravity=loads.get("gravity", 0.0), rayleigh=rayleigh,
+                              membrane_strain_degree=spec.membrane_strain_degree, **kwargs)
 
 
 def fold_perturbation(case: Case):

@@ -54,7 +54,7 @@ from skfem import CellBasis, FacetBasis
 from constitutive.law import BendingLaw
 from constitutive.units import G0
 from drape.assembly import SparsityPattern
-from drape.kinematics import KLPoint, basis_arrays, gram
+from drape.kinematics import KLPoint, basis_arrays, gram, polynomial_projection
 from drape.plate import CURVATURE_SIGN as _PLATE_CURVATURE_SIGN
 from drape.plate import _elastic_energy
 
@@ -226,13 +226,19 @@ class KirchhoffLoveShell:
     chunk : int
         Elements per batch in the assembly (bounds the memory of the
         (element, point, 63, 63) work arrays).
+    membrane_strain_degree : int, optional
+        Project the membrane strain on each triangle onto polynomials of this degree
+        before it enters the energy (an assumed-strain remedy of membrane locking: a
+        fabric's membrane is ~10⁹× stiffer than its bending, and the full quintic strain
+        cannot vanish in the folds a coarse mesh must represent). None: the consistent
+        strain.
     """
 
     def __init__(self, mesh, material, *, clamped: Sequence[str] = ("clamped",),
                  fixed_dofs=None, element=None, gravity=1.0,
                  edge_load: Optional[Callable] = None, end_moment=None,
                  surface_load=None, load_boundary: str = "free", rayleigh=(0.0, 0.0), intorder: int = 6,
-                 g: float = G_STANDARD, chunk: int = 512):
+                 g: float = G_STANDARD, chunk: int = 512, membrane_strain_degree=None):
         self.mesh = mesh
         names = [clamped] if isinstance(clamped, str) else list(clamped)
         bnd = mesh.boundaries or {}
@@ -256,6 +262,10 @@ class KirchhoffLoveShell:
         self.rayleigh = tuple(float(r) for r in rayleigh)
         self.chunk = int(chunk)
 
+        self.strain_projection = None
+        if membrane_strain_degree is not None:
+            X, W = self.basis.quadrature
+            self.strain_projection = polynomial_projection(X, W, int(membrane_strain_degree))
         self.dN, self.HN, self.N = basis_arrays(self.basis)
         # every curvature quantity is linear in HN: the sign convention is one factor
         self.HN *= CURVATURE_SIGN
@@ -277,8 +287,8 @@ class KirchhoffLoveShell:
 
         self._setup_edges(load_boundary)
         self._M = self._mass()
-        self._f_gravity = self._surface_vector(
-            lambda x: np.stack([0 * x[0], 0 * x[0], -self.rho_A * self.g + 0 * x[0]]))
+        weight = np.array([0.0, 0.0, -self.rho_A * self.g])
+        self._f_gravity = self._surface_vector(lambda x: weight[:, None, None] * np.ones_like(x[0]))
         self._f_surface, self.surface_amplitude = None, None
         if surface_load is not None:
             traction, amplitude = surface_load
@@ -395,7 +405,7 @@ class KirchhoffLoveShell:
             w = self.w[sl]
             de = kp.strain_variation()
             dk = kp.curvature_variation()
-            Nm = np.einsum("vw,eqw->eqv", self.C_m, kp.strain)
+            Nm = np.einsum("vw,eqw->eqv", self.C_m, self._membrane_strain(kp.strain))
             M, D = Mall[sl], Dall[sl]
             f[sl] = (np.einsum("eqvI,eqv->eI", de, Nm * w[..., None])
                      + np.einsum("eqvI,eqv->eI", dk, M * w[..., None]))
@@ -414,7 +424,7 @@ class KirchhoffLoveShell:
                     kdot, g = kp.rate_variation(xe)
                     Mgeo[..., :2] += coef * kdot[..., :2]
                     Kv = Kv + gram(dk2 * (w[..., None] * coef)[..., None], g[:, :, :2])
-            K[sl] = kp.tangent(self.C_m, Nm, Mgeo, D, w) + Kv
+            K[sl] = kp.tangent(self.C_m, Nm, Mgeo, D, w, self.strain_projection) + Kv
         fint = self.pattern.vector(f)
         Kd = self.pattern.matrix(K).data
         if not has_visc:
@@ -440,7 +450,7 @@ class KirchhoffLoveShell:
         de = de.reshape(w.shape + (3, 3 * nb))
         dk = dk.reshape(w.shape + (3, 3 * nb))
         D = np.array([self.warp_law.k1, self.weft_law.k1, 0.5 * self.twist])
-        CdE = np.einsum("vw,eqwI->eqvI", self.C_m, de) * w[..., None, None]
+        CdE = np.einsum("vw,eqwI->eqvI", self.C_m, self._membrane_strain(de)) * w[..., None, None]
         K = gram(de, CdE) + gram(dk, dk * (w[..., None] * D)[..., None])
         return self.pattern.matrix(K)
 
@@ -580,12 +590,20 @@ class KirchhoffLoveShell:
         return np.stack([self.warp_state.friction_moment(kappa[..., 0]),
                          self.weft_state.friction_moment(kappa[..., 1])], axis=-1)
 
+    def _membrane_strain(self, eps):
+        """The strain that carries the membrane energy: ``eps`` (e, q, ...) projected per
+        element when ``membrane_strain_degree`` is set."""
+        if self.strain_projection is None:
+            return eps
+        return np.einsum("pq,eq...->ep...", self.strain_projection, eps)
+
     def qp_state(self, u):
-        """Membrane strain and curvature (Voigt) at all quadrature points, (e, q, 3) each."""
+        """Membrane strain (as it enters the energy) and curvature (Voigt) at all quadrature
+        points, (e, q, 3) each."""
         eps, kap = [], []
         for sl in self._chunks():
             kp = self._points(u, sl)
-            eps.append(kp.strain)
+            eps.append(self._membrane_strain(kp.strain))
             kap.append(kp.kappa)
         return np.concatenate(eps), np.concatenate(kap)
 

@@ -76,6 +76,9 @@ def test_good_case_validates_with_defaults():
          "load.end_moment needs model.kinematics = 'large' (a follower moment)"),
         (["mesh.length='5 kg'"], "mesh.length = '5 kg': cannot read '5 kg' as a quantity"),
         (["solver=3"], "solver = 3: must be a table"),
+        (["model.membrane_strain_degree=3"],
+         "model.membrane_strain_degree is only used with model.kinematics = 'large' (got 'small')"),
+        (["material.bending_scale=-2"], "material.bending_scale = -2: must be > 0"),
     ],
 )
 def test_each_mistake_gives_exactly_one_clear_error(overrides, expected):
@@ -174,3 +177,9 @@ def test_schema_help_documents_every_key():
                 assert f"[{section.__name__.lower().replace('spec', '')}.{name}]" in text, name
             else:
                 assert f"  {name} : " in text, name
+
+
+def test_cusick_mesh_grading_below_one_is_named():
+    with pytest.raises(CaseError) as info:
+        load_case(Path(__file__).parents[1] / "cases" / "cusick_fabric1.toml", ["mesh.radial_grading=0.5"])
+    assert str(info.value) == "mesh.radial_grading = 0.5: must be >= 1.0"
