@@ -10,9 +10,10 @@ Studies (each a set of runs of cases/cusick_*.toml with dotted overrides):
                    c = (k1/(rho_A g))^(1/3) = 3.3 ... 0.72 cm, plus s = 1000 (c = 7.2 cm, more
                    than the 6 cm overhang): DC must fall monotonically as s falls, and the stiff
                    one must stay near 100 %.
-* ``convergence``  Fabric 1 on the default mesh (4 x 48), on 6 x 72 (x1.5) and on one uniform
-                   refinement (mesh.refine = 1, 8 x 96; long): DC change (points) and node counts.
-                   ``--only fabric1_refine0 fabric1_x1.5`` for the affordable pair.
+* ``convergence``  Fabric 1 on the default mesh (4 x 48, radial_grading 4), on 6 x 72 (x1.5) and
+                   on one uniform refinement (mesh.refine = 1, 8 x 96; about 30 min): DC change
+                   (points) and node counts. Add e.g. ``--set material.bending_scale=10`` for a
+                   stiffer member of the sweep.
 
 Usage::
 

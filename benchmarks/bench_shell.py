@@ -171,12 +171,12 @@ def main(argv=None):
     p.add_argument("--repeat", type=int, default=5, help="timing repeats, best taken (default 5)")
     p.add_argument("--case", type=Path, default=ROOT / "cases" / "cantilever.toml",
                    help="case file for the simulated-time rate (default cases/cantilever.toml)")
-    p.add_argument("--annulus", nargs="*", default=["4x48", "6x72"], metavar="NRxNC",
-                   help="Cusick annuli for the linear-solve comparison (default 4x48 6x72)")
+    p.add_argument("--annulus", nargs="*", default=["4x48", "6x72", "8x96"], metavar="NRxNC",
+                   help="Cusick annuli for the linear-solve comparison (default 4x48 6x72 8x96)")
     p.add_argument("--no-case", action="store_true", help="skip the case run")
     args = p.parse_args(argv)
     bench_assembly(args.nx, args.ny, args.repeat)
-    bench_linear_solve(args.annulus, max(1, args.repeat // 2))
+    bench_linear_solve(args.annulus, args.repeat)
     if not args.no_case:
         bench_case(args.case)
 
