@@ -400,9 +400,15 @@ class ModelSpec(_Section):
     """Large kinematics: project the membrane strain per triangle onto polynomials of this
     degree (assumed strain against membrane locking of folds on coarse meshes); absent: the
     consistent strain."""
+    membrane_stabilization: float = Field(0.0, ge=0, le=1)
+    """With @.membrane_strain_degree: weight γ kept on the strain the projection removes
+    (0: pure assumed strain; 0.01–0.1 suppresses the spurious in-plane modes of degrees 0–2;
+    1: the consistent strain)."""
 
     @model_validator(mode="after")
     def _membrane_needs_large(self):
+        if self.membrane_stabilization and self.membrane_strain_degree is None:
+            raise _rule("@.membrane_stabilization needs @.membrane_strain_degree")
         for key in ("membrane", "membrane_strain_degree"):
             if getattr(self, key) is not None and self.kinematics != "large":
                 raise _rule(

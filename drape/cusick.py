@@ -440,7 +440,8 @@ def _nodal_displacement(mesh, displacement) -> np.ndarray:
     return u
 
 
-def cusick_post(mesh, displacement, cusick: dict, out_dir=None, name: str = "cusick") -> dict:
+def cusick_post(mesh, displacement, cusick: dict, out_dir=None, name: str = "cusick",
+                surface=None) -> dict:
     """Runner hook: analyse a settled Cusick drape and write the top view.
 
     Parameters
@@ -455,6 +456,10 @@ def cusick_post(mesh, displacement, cusick: dict, out_dir=None, name: str = "cus
     out_dir : str or Path, optional
         Where ``<name>_top_view.png`` goes.
     name : str
+    surface : tuple (points (N, 3), triangles (T, 3)), optional
+        The deformed surface sampled finer than the vertices (e.g.
+        ``KirchhoffLoveShell.deformed_surface``): its shadow is measured instead of the
+        vertex triangles'. ``displacement`` is still checked against ``mesh``.
 
     Returns
     -------
@@ -465,15 +470,20 @@ def cusick_post(mesh, displacement, cusick: dict, out_dir=None, name: str = "cus
         if key not in cusick:
             raise CusickError(f"[cusick] {key}: missing (diameter in metres)")
     u = _nodal_displacement(mesh, displacement)
-    pts = mesh.p.T[:, :2]
-    pts = np.column_stack([pts, np.zeros(len(pts))]) + u
-    res = drape_analysis(pts, mesh.t.T, 0.5 * float(cusick["specimen_diameter"]),
+    vertices = np.column_stack([mesh.p.T[:, :2], np.zeros(mesh.p.shape[1])]) + u
+    pts, tri = (vertices, mesh.t.T) if surface is None else surface
+    res = drape_analysis(pts, tri, 0.5 * float(cusick["specimen_diameter"]),
                          0.5 * float(cusick["disc_diameter"]),
                          n_samples=int(cusick.get("n_samples", 720)),
                          rel_prominence=float(cusick.get("rel_prominence", 0.15)),
                          min_prominence_fraction=float(cusick.get("min_prominence_fraction", 0.02)),
                          max_mode=cusick.get("max_mode", 20))
     out = res.summary()
+    if surface is not None:
+        # what the vertex triangles alone would give: the gap is the mesh's drawing error
+        vertex_shadow = shadow_polygon(vertices, mesh.t.T, res.disc_radius)
+        out["drape_coefficient_vertices_percent"] = 100.0 * drape_coefficient(
+            vertex_shadow.area, res.specimen_radius, res.disc_radius)
     if out_dir is not None:
         png = plot_top_view(res, Path(out_dir) / f"{name}_top_view.png", title=name)
         out["top_view_png"] = str(png)

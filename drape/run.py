@@ -219,8 +219,11 @@ def _cusick_finish(ctx: RunContext) -> dict:
 
     spec = ctx.case.mesh
     table = {"specimen_diameter": spec.specimen_diameter, "disc_diameter": spec.disc_diameter}
+    # the shadow of the computed surface, not of its vertex triangles (large kinematics)
+    sample = getattr(ctx.model, "deformed_surface", None)
     out = cusick_post(ctx.mesh, ctx.fields()["displacement"], table, ctx.out_dir,
-                      name=ctx.case.case.name)
+                      name=ctx.case.case.name,
+                      surface=None if sample is None else sample(ctx.state.u))
     return _plain(out)
 
 
@@ -472,7 +475,8 @@ def build_model(case: Case, mesh, material):
         kwargs.update(end_moment=loads["end_moment"], load_boundary=case.load.end_moment.boundary)
     return KirchhoffLoveShell(mesh, material, clamped=clamped,
                               gravity=loads.get("gravity", 0.0), rayleigh=rayleigh,
-                              membrane_strain_degree=spec.membrane_strain_degree, **kwargs)
+                              membrane_strain_degree=spec.membrane_strain_degree,
+                              membrane_stabilization=spec.membrane_stabilization, **kwargs)
 
 
 def fold_perturbation(case: Case):

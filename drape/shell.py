@@ -54,7 +54,7 @@ from skfem import CellBasis, FacetBasis
 from constitutive.law import BendingLaw
 from constitutive.units import G0
 from drape.assembly import SparsityPattern
-from drape.kinematics import KLPoint, basis_arrays, gram, polynomial_projection
+from drape.kinematics import KLPoint, assumed_strain_operator, basis_arrays, gram
 from drape.plate import CURVATURE_SIGN as _PLATE_CURVATURE_SIGN
 from drape.plate import _elastic_energy
 
@@ -187,6 +187,27 @@ def membrane_matrix(material):
                      [0.0, 0.0, G12]])
 
 
+def reference_subdivision(n: int):
+    """Points and triangles of the reference triangle cut into ``n²`` congruent pieces.
+
+    >>> X, tri = reference_subdivision(2)
+    >>> X.shape, tri.shape
+    ((2, 6), (4, 3))
+    """
+    if int(n) < 1:
+        raise ShellInputError(f"subdivisions = {n!r} must be >= 1")
+    n = int(n)
+    ij = [(i, j) for j in range(n + 1) for i in range(n + 1 - j)]
+    index = {p: k for k, p in enumerate(ij)}
+    tri = []
+    for i, j in ij:
+        if i + j < n:
+            tri.append((index[i, j], index[i + 1, j], index[i, j + 1]))
+        if i + j < n - 1:
+            tri.append((index[i + 1, j], index[i + 1, j + 1], index[i, j + 1]))
+    return np.array(ij, dtype=float).T / n, np.array(tri)
+
+
 class KirchhoffLoveShell:
     """Total-Lagrangian Kirchhoff–Love fabric with hysteretic bending.
 
@@ -232,13 +253,18 @@ class KirchhoffLoveShell:
         fabric's membrane is ~10⁹× stiffer than its bending, and the full quintic strain
         cannot vanish in the folds a coarse mesh must represent). None: the consistent
         strain.
+    membrane_stabilization : float
+        With ``membrane_strain_degree``: the weight γ ∈ [0, 1] kept on the part of the
+        strain the projection removes (:func:`drape.kinematics.assumed_strain_operator`);
+        0.01–0.1 suppresses the spurious in-plane modes of degrees 0–2.
     """
 
     def __init__(self, mesh, material, *, clamped: Sequence[str] = ("clamped",),
                  fixed_dofs=None, element=None, gravity=1.0,
                  edge_load: Optional[Callable] = None, end_moment=None,
                  surface_load=None, load_boundary: str = "free", rayleigh=(0.0, 0.0), intorder: int = 6,
-                 g: float = G_STANDARD, chunk: int = 512, membrane_strain_degree=None):
+                 g: float = G_STANDARD, chunk: int = 512, membrane_strain_degree=None,
+                 membrane_stabilization: float = 0.0):
         self.mesh = mesh
         names = [clamped] if isinstance(clamped, str) else list(clamped)
         bnd = mesh.boundaries or {}
@@ -265,7 +291,8 @@ class KirchhoffLoveShell:
         self.strain_projection = None
         if membrane_strain_degree is not None:
             X, W = self.basis.quadrature
-            self.strain_projection = polynomial_projection(X, W, int(membrane_strain_degree))
+            self.strain_projection = assumed_strain_operator(X, W, int(membrane_strain_degree),
+                                                             membrane_stabilization)
         self.dN, self.HN, self.N = basis_arrays(self.basis)
         # every curvature quantity is linear in HN: the sign convention is one factor
         self.HN *= CURVATURE_SIGN
@@ -591,19 +618,19 @@ class KirchhoffLoveShell:
                          self.weft_state.friction_moment(kappa[..., 1])], axis=-1)
 
     def _membrane_strain(self, eps):
-        """The strain that carries the membrane energy: ``eps`` (e, q, ...) projected per
-        element when ``membrane_strain_degree`` is set."""
+        """``Q eps`` (e, q, ...), whose forces ``C_m Q eps`` the membrane carries: the
+        assumed-strain operator of :func:`drape.kinematics.assumed_strain_operator` when
+        ``membrane_strain_degree`` is set, else ``eps`` itself."""
         if self.strain_projection is None:
             return eps
         return np.einsum("pq,eq...->ep...", self.strain_projection, eps)
 
     def qp_state(self, u):
-        """Membrane strain (as it enters the energy) and curvature (Voigt) at all quadrature
-        points, (e, q, 3) each."""
+        """Membrane strain and curvature (Voigt) at all quadrature points, (e, q, 3) each."""
         eps, kap = [], []
         for sl in self._chunks():
             kp = self._points(u, sl)
-            eps.append(self._membrane_strain(kp.strain))
+            eps.append(kp.strain)
             kap.append(kp.kappa)
         return np.concatenate(eps), np.concatenate(kap)
 
@@ -613,6 +640,7 @@ class KirchhoffLoveShell:
         Tensor components (``curvature_xy`` = κ12, ``moment_xy`` = M12).
         """
         eps, kap = self.qp_state(u)
+        eps = self._membrane_strain(eps)        # the strain whose forces are C_m eps
         out = {}
         for name, i in (("xx", 0), ("yy", 1)):
             state = self.warp_state if i == 0 else self.weft_state
@@ -631,7 +659,7 @@ class KirchhoffLoveShell:
         (dead loads: gravity and edge force; not the follower end moment), friction and
         damping work (Rayleigh and the law's d κ̇) dissipated so far, and their total."""
         eps, kap = self.qp_state(u)
-        membrane = 0.5 * np.einsum("eqv,vw,eqw,eq->", eps, self.C_m, eps, self.w)
+        membrane = 0.5 * np.einsum("eqv,vw,eqw,eq->", eps, self.C_m, self._membrane_strain(eps), self.w)
         bend = sum(float(np.sum(_elastic_energy(law, kap[..., i]) * self.w))
                    for i, law in enumerate((self.warp_law, self.weft_law)))
         bend += float(np.sum(0.25 * self.twist * kap[..., 2] ** 2 * self.w))
@@ -647,6 +675,30 @@ class KirchhoffLoveShell:
                     external_potential=ext, friction_work=self._friction_work,
                     damping_work=self._damping_work,
                     total=kinetic + strain + ext + self._friction_work + self._damping_work)
+
+    def deformed_surface(self, u, subdivisions: int = 4):
+        """The deformed surface sampled inside every triangle, as a triangle soup.
+
+        The vertices alone draw each curved Argyris triangle as its flat chord triangle;
+        a fold crest between two vertices is lost, and how much is lost depends on the
+        mesh. Sampling every triangle on ``subdivisions``² sub-triangles of the exact
+        field makes what is measured on it (a drape shadow) the solution's own.
+
+        Returns
+        -------
+        points : ndarray, shape (E m, 3)
+            Deformed positions (reference x, y, 0 plus displacement) of the
+            ``m = (n + 1)(n + 2)/2`` sample points of each of the E triangles.
+        triangles : ndarray of int, shape (E n², 3)
+        """
+        X, local = reference_subdivision(subdivisions)
+        sample = CellBasis(self.mesh, self.element, quadrature=(X, np.ones(X.shape[1])))
+        ref = sample.mapping.F(X)                                      # (2, E, m)
+        disp = np.stack([sample.interpolate(np.asarray(u)[k::3]).value for k in range(3)])
+        pos = np.concatenate([ref, np.zeros_like(ref[:1])]) + disp    # (3, E, m)
+        E, m = pos.shape[1:]
+        tris = (np.arange(E)[:, None, None] * m + local[None]).reshape(-1, 3)
+        return pos.reshape(3, -1).T, tris
 
     def nodal_displacement(self, u):
         """Displacement 3-vector at the mesh vertices, shape (n_points, 3)."""

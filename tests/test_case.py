@@ -79,6 +79,9 @@ def test_good_case_validates_with_defaults():
         (["model.membrane_strain_degree=3"],
          "model.membrane_strain_degree is only used with model.kinematics = 'large' (got 'small')"),
         (["material.bending_scale=-2"], "material.bending_scale = -2: must be > 0"),
+        (["model.kinematics='large'", "mesh.element='argyris'", "model.membrane_stabilization=0.1"],
+         "model.membrane_stabilization needs model.membrane_strain_degree"),
+        (["model.membrane_stabilization=2"], "model.membrane_stabilization = 2: must be <= 1"),
     ],
 )
 def test_each_mistake_gives_exactly_one_clear_error(overrides, expected):

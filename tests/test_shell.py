@@ -14,21 +14,28 @@ def _strip(L, b, nx, ny=1):
                                  "free": lambda x: x[0] > L * (1 - 1e-9)})
 
 
+#: Membrane strain variants (degree, stabilisation γ): consistent, assumed cubic, and the
+#: stabilised linear one of the Cusick cases.
+ASSUMED_STRAINS = [(None, 0.0), (3, 0.0), (1, 0.05)]
+
+
 def _tip(model, u):
     d = model.nodal_displacement(u)
     return d[model.mesh.p[0] > model.mesh.p[0].max() * (1 - 1e-9)].mean(axis=0)
 
 
-def test_rollup_under_follower_end_moment():
+@pytest.mark.parametrize("strain_degree, stabilization", ASSUMED_STRAINS)
+def test_rollup_under_follower_end_moment(strain_degree, stabilization):
     """Roll-up (DESIGN §5): θ = ML/B, u = −L(1 − sin θ/θ), w = L(1 − cos θ)/θ.
 
     Tip within 0.5 % of L at M/M_max = 0.5 and 1.0 (M_max = 2πB/L closes a circle).
-    Membrane stiffness E h L²/B = 1e6 (nearly inextensible).
+    Membrane stiffness E h L²/B = 1e6 (nearly inextensible); also with the assumed strains.
     """
     L, b, B = 1.0, 0.1, 1.0
     Mmax = 2 * np.pi * B / L
     shell = KirchhoffLoveShell(_strip(L, b, 8), ElasticMaterial(bending=B, membrane=1e6),
-                               gravity=0.0, end_moment=Mmax)
+                               gravity=0.0, end_moment=Mmax, membrane_strain_degree=strain_degree,
+                               membrane_stabilization=stabilization)
     checks = {}
 
     def record(state, info):
@@ -41,16 +48,30 @@ def test_rollup_under_follower_end_moment():
         assert np.linalg.norm(checks[lam] - exact) <= 0.005 * L
 
 
-@pytest.mark.parametrize("strain_degree", [None, 3])
-def test_sze_cantilever_under_end_shear(strain_degree):
+def test_assumed_strain_relieves_locking_of_a_coarse_rollup():
+    """Three triangles' length rolled into a full circle (M = 2πB/L): the quintic's own
+    membrane strain cannot vanish on so coarse an arc (tip error 2.3e-3 L); the stabilised
+    linear assumed strain (degree 1, γ = 0.05) must reach the analytic tip within 1e-3 L."""
+    L, b, B = 1.0, 0.1, 1.0
+    shell = KirchhoffLoveShell(_strip(L, b, 3), ElasticMaterial(bending=B, membrane=1e6),
+                               gravity=0.0, end_moment=2 * np.pi * B / L,
+                               membrane_strain_degree=1, membrane_stabilization=0.05)
+    tip = _tip(shell, quasi_static(shell, np.linspace(0.1, 1.0, 10)).u)
+    assert np.linalg.norm(tip - np.array([-L, 0.0, 0.0])) <= 1e-3 * L
+
+
+@pytest.mark.parametrize("strain_degree, stabilization", ASSUMED_STRAINS)
+def test_sze_cantilever_under_end_shear(strain_degree, stabilization):
     """Sze, Liu & Lo (2004) cantilever strip: L = 10, b = 1, h = 0.1, E = 1.2e6, ν = 0,
     P_max = 4 (dead, vertical); published tip (−u, w) = (1.604, 4.933) at P/P_max = 0.5
     and (3.286, 6.698) at 1.0. Tolerance 1 %. Also with the membrane strain projected on
-    cubics (``membrane_strain_degree = 3``)."""
+    cubics, and on linears with 5 % of the rest kept (``membrane_strain_degree``,
+    ``membrane_stabilization``)."""
     L, b, h, E = 10.0, 1.0, 0.1, 1.2e6
     shell = KirchhoffLoveShell(_strip(L, b, 8), ElasticMaterial(bending=E * h ** 3 / 12, membrane=E * h),
                                gravity=0.0, edge_load=np.array([0.0, 0.0, 4.0 / b]),
-                               membrane_strain_degree=strain_degree)
+                               membrane_strain_degree=strain_degree,
+                               membrane_stabilization=stabilization)
     tips = {}
     quasi_static(shell, np.linspace(0.1, 1.0, 10),
                  on_step=lambda s, i: tips.__setitem__(round(shell.load_scale, 6), _tip(shell, s.u)))
@@ -186,3 +207,27 @@ def test_small_amplitude_vibration_frequency():
     crossings = t[i] - w[i] * (t[i + 1] - t[i]) / (w[i + 1] - w[i])
     assert len(crossings) >= 3
     assert 2 * np.diff(crossings).mean() == pytest.approx(T, rel=0.01)
+
+
+def test_deformed_surface_shadow_resolves_curved_triangles():
+    """Unit square (2 × 2 cells) stretched by u_x = a x y (1 − y): its exact area is
+    1 + a/6. The vertex triangles see y (1 − y) only at y = 0, ½, 1 (area 1 + a/8); the
+    surface sampled on 4 × 4 sub-triangles per cell must be ten times closer."""
+    from drape.cusick import shadow_polygon
+    a = 0.6
+    mesh = MeshTri.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 1, 3))
+    shell = KirchhoffLoveShell(mesh.with_boundaries({"clamped": lambda x: x[0] < 1e-9}),
+                               ElasticMaterial(bending=1.0, membrane=1.0))
+    z = lambda x: 0 * x[0]
+    u = shell.interpolate(
+        lambda x: np.array([a * x[0] * x[1] * (1 - x[1]), z(x), z(x)]),
+        lambda x: np.array([[a * x[1] * (1 - x[1]), a * x[0] * (1 - 2 * x[1])], [z(x), z(x)], [z(x), z(x)]]),
+        lambda x: np.array([[[z(x), a * (1 - 2 * x[1])], [a * (1 - 2 * x[1]), -2 * a * x[0]]],
+                            [[z(x), z(x)], [z(x), z(x)]], [[z(x), z(x)], [z(x), z(x)]]]))
+    exact = 1 + a / 6
+    vertices = shell.nodal_displacement(u)[:, :2] + mesh.p.T
+    vertex_area = shadow_polygon(vertices, mesh.t.T).area
+    assert vertex_area == pytest.approx(1 + a / 8, rel=1e-9)
+    pts, tri = shell.deformed_surface(u, subdivisions=4)
+    assert tri.shape == (mesh.t.shape[1] * 16, 3)
+    assert abs(shadow_polygon(pts, tri).area - exact) <= 0.1 * abs(vertex_area - exact)

@@ -121,6 +121,18 @@ def test_first_variations_match_finite_differences(shell):
         assert np.linalg.norm(lin - fd) <= 1e-6 * np.linalg.norm(fd)
 
 
+@pytest.fixture(scope="module")
+def assumed_strain_shell():
+    return KirchhoffLoveShell(_strip(), _Material(), gravity=lambda t: 0.7 * t,
+                              edge_load=lambda t: np.array([0.1, 0.2, 0.3]),
+                              membrane_strain_degree=1, membrane_stabilization=0.05)
+
+
+def test_assumed_strain_tangent_matches_finite_differences(assumed_strain_shell):
+    """The stabilised assumed strain (degree 1, γ = 0.05) keeps K = ∂R/∂u (rel. ≤ 1e-6)."""
+    test_tangent_matches_finite_differences_of_residual(assumed_strain_shell, False)
+
+
 @pytest.mark.parametrize("moving", [False, True])
 def test_tangent_matches_finite_differences_of_residual(shell, moving):
     """K = ∂R/∂u (membrane, bending with friction and face-down stiffness, twist,
@@ -152,11 +164,15 @@ def test_damping_and_mass_matrices_are_derivatives_of_residual(shell):
     assert np.linalg.norm(M @ dv - (Ra - R0)) <= 1e-9 * np.linalg.norm(Ra - R0)
 
 
-def test_internal_force_is_gradient_of_strain_energy():
-    """Without friction, f_int = ∂(strain energy)/∂u (relative error ≤ 1e-6)."""
+@pytest.mark.parametrize("assumed", [None, (1, 0.05), (2, 0.0)])
+def test_internal_force_is_gradient_of_strain_energy(assumed):
+    """Without friction, f_int = ∂(strain energy)/∂u (relative error ≤ 1e-6); also with a
+    (stabilised) assumed membrane strain of degree 1 or 2."""
     class Elastic(_Material):
         warp = BendingLaw(k1=1.0, k3=0.5)
-    sh = KirchhoffLoveShell(_strip(), Elastic(), gravity=0.0)
+    kw = {} if assumed is None else dict(membrane_strain_degree=assumed[0],
+                                         membrane_stabilization=assumed[1])
+    sh = KirchhoffLoveShell(_strip(), Elastic(), gravity=0.0, **kw)
     u, rng = _random_state(sh, seed=4)
     z = np.zeros_like(u)
     fint = sh.residual(u, z, z, 0.0)[0]
