@@ -10,8 +10,8 @@ Studies (each a set of runs of cases/cusick_*.toml with dotted overrides):
                    c = (k1/(rho_A g))^(1/3) = 3.3 ... 0.72 cm, plus s = 1000 (c = 7.2 cm, more
                    than the 6 cm overhang): DC must fall monotonically as s falls, and the stiff
                    one must stay near 100 %.
-* ``convergence``  Fabric 1 on the default mesh (4 x 48, radial_grading 4), on 6 x 72 (x1.5) and
-                   on one uniform refinement (mesh.refine = 1, 8 x 96; about 30 min): DC change
+* ``convergence``  Fabric 1 on the default mesh (6 x 72, radial_grading 4), on 8 x 96 (x4/3) and
+                   on one uniform refinement (mesh.refine = 1, 12 x 144; over an hour): DC change
                    (points) and node counts. Add e.g. ``--set material.bending_scale=10`` for a
                    stiffer member of the sweep.
 
@@ -40,6 +40,10 @@ G = 9.80665
 #: its weight (bending length > overhang).
 SWEEP_SCALES = (100, 30, 10, 3, 1)
 STIFF_SCALE = 1000
+#: Finer meshes of the convergence study (the default is 6 x 72, radial_grading 4): 4/3 of
+#: its density, and one uniform refinement (every triangle split in four).
+CONVERGENCE_MESHES = {"fabric1_8x96": ["mesh.n_radial=8", "mesh.n_circumferential=96"],
+                      "fabric1_refine1": ["mesh.refine=1"]}
 
 
 def _run(args):
@@ -58,6 +62,7 @@ def _run(args):
     a = s.get("analysis", {})
     return dict(label=label, case=case_file, overrides=overrides, status=s.get("status"),
                 reason=s.get("reason"), dc_percent=a.get("drape_coefficient_percent"),
+                dc_vertices_percent=a.get("drape_coefficient_vertices_percent"),
                 n_nodes=a.get("n_nodes"), node_depths_mm=[1e3 * d for d in a.get("node_depths_m", [])],
                 settling_time_s=s.get("settling_time"), t_final_s=s.get("t_final"),
                 steps=s.get("steps"), wall_s=time.perf_counter() - t0, out=str(out))
@@ -72,26 +77,31 @@ def bending_length(scale: float, direction: str = "warp") -> float:
 
 
 def studies(which: list[str], extra: list[str]):
-    runs = []
+    """Runs ``(label, case file, overrides)`` of the chosen studies; a run that two studies
+    share (Fabric 1 as it is: fabrics, friction, sweep s = 1, convergence) is made once."""
+    runs = {}
+
+    def add(label, case, overrides=()):
+        runs.setdefault(label, (label, case, list(overrides) + list(extra)))
+
     if "fabrics" in which:
         for name in ("cusick_fabric1", "cusick_fabric2", "cusick_kes"):
-            runs.append((name, f"cases/{name}.toml", list(extra)))
+            add(name, f"cases/{name}.toml")
     if "friction" in which:
-        runs.append(("fabric1_friction", "cases/cusick_fabric1.toml", list(extra)))
-        runs.append(("fabric1_no_friction", "cases/cusick_fabric1.toml",
-                     ["material.friction=false"] + extra))
-        runs.append(("kes_friction", "cases/cusick_kes.toml", list(extra)))
-        runs.append(("kes_no_friction", "cases/cusick_kes.toml", ["material.friction=false"] + extra))
+        for name, label in (("cusick_fabric1", "fabric1"), ("cusick_kes", "kes")):
+            add(name, f"cases/{name}.toml")
+            add(f"{label}_no_friction", f"cases/{name}.toml", ["material.friction=false"])
     if "sweep" in which:
         for scale in SWEEP_SCALES + (STIFF_SCALE,):
-            runs.append((f"sweep_s{scale:g}", "cases/cusick_fabric1.toml",
-                         [f"material.bending_scale={scale!r}"] + extra))
+            if scale == 1:
+                add("cusick_fabric1", "cases/cusick_fabric1.toml")
+            else:
+                add(f"sweep_s{scale:g}", "cases/cusick_fabric1.toml", [f"material.bending_scale={scale!r}"])
     if "convergence" in which:
-        runs.append(("fabric1_refine0", "cases/cusick_fabric1.toml", ["mesh.refine=0"] + extra))
-        runs.append(("fabric1_x1.5", "cases/cusick_fabric1.toml",
-                     ["mesh.n_radial=6", "mesh.n_circumferential=72"] + extra))
-        runs.append(("fabric1_refine1", "cases/cusick_fabric1.toml", ["mesh.refine=1"] + extra))
-    return runs
+        add("cusick_fabric1", "cases/cusick_fabric1.toml")
+        for label, overrides in CONVERGENCE_MESHES.items():
+            add(label, "cases/cusick_fabric1.toml", overrides + ["solver.t_end=4.0"])
+    return list(runs.values())
 
 
 def _table(records):
@@ -114,7 +124,7 @@ def _table(records):
 def _checks(records):
     by = {r["label"]: r for r in records if "error" not in r}
     out = []
-    sweep = [by.get(f"sweep_s{s:g}") for s in SWEEP_SCALES]
+    sweep = [by.get("cusick_fabric1" if s == 1 else f"sweep_s{s:g}") for s in SWEEP_SCALES]
     if all(sweep):
         dcs = [r["dc_percent"] for r in sweep]
         mono = all(a > b for a, b in zip(dcs, dcs[1:]))
@@ -126,14 +136,14 @@ def _checks(records):
         out.append(f"stiff (bending_scale {STIFF_SCALE:g}, warp c = {100 * bending_length(STIFF_SCALE):.1f} cm "
                    f">= 6 cm overhang): DC = {stiff['dc_percent']:.1f} %")
     for name in ("fabric1", "kes"):
-        a, b = by.get(f"{name}_friction"), by.get(f"{name}_no_friction")
+        a, b = by.get(f"cusick_{name}"), by.get(f"{name}_no_friction")
         if a and b:
             out.append(f"friction ({name}): DC {a['dc_percent']:.2f} % vs friction-free {b['dc_percent']:.2f} % "
                        f"(difference {a['dc_percent'] - b['dc_percent']:+.2f} points; nodes {a['n_nodes']} vs "
                        f"{b['n_nodes']})")
-    for fine in ("fabric1_x1.5", "fabric1_refine1"):
-        if "fabric1_refine0" in by and fine in by:
-            a, b = by["fabric1_refine0"], by[fine]
+    for fine in CONVERGENCE_MESHES:
+        if "cusick_fabric1" in by and fine in by:
+            a, b = by["cusick_fabric1"], by[fine]
             out.append(f"convergence ({fine}): DC {a['dc_percent']:.2f} -> {b['dc_percent']:.2f} % "
                        f"(|change| {abs(a['dc_percent'] - b['dc_percent']):.2f} points, rule < 2); "
                        f"nodes {a['n_nodes']} -> {b['n_nodes']}")
@@ -147,9 +157,11 @@ def _plot_sweep(records, out_dir: Path):
 
     pts = []
     for r in records:
-        if r["label"].startswith("sweep_s") and "error" not in r:
-            c = 100 * bending_length(float(r["label"].removeprefix("sweep_s")))
-            pts.append((c, r["dc_percent"]))
+        scale = 1.0 if r["label"] == "cusick_fabric1" else None
+        if r["label"].startswith("sweep_s"):
+            scale = float(r["label"].removeprefix("sweep_s"))
+        if scale is not None and "error" not in r:
+            pts.append((100 * bending_length(scale), r["dc_percent"]))
     if not pts:
         return None
     pts.sort()
@@ -186,14 +198,7 @@ def main(argv=None):
     runs = studies(which, args.set)
     if args.only:
         runs = [r for r in runs if r[0] in args.only]
-    # a run shared by two studies (fabric 1 default) is run once
-    seen, todo = {}, []
-    for label, case, over in runs:
-        key = (case, tuple(o for o in over if o != "mesh.refine=0"))
-        if key in seen:
-            continue
-        seen[key] = label
-        todo.append((label, case, over, out / label))
+    todo = [(label, case, over, out / label) for label, case, over in runs]
     print(f"{len(todo)} runs, {args.jobs} at a time, {os.cpu_count()} cpus", flush=True)
     t0 = time.perf_counter()
     if args.jobs > 1:
@@ -201,13 +206,6 @@ def main(argv=None):
             records = list(pool.map(_run, todo))
     else:
         records = [_run(t) for t in todo]
-    # duplicate records under the labels of the studies that share a run
-    labels = {r["label"]: r for r in records}
-    for label, case, over in runs:
-        key = (case, tuple(o for o in over if o != "mesh.refine=0"))
-        if label not in labels and seen[key] in labels:
-            labels[label] = {**labels[seen[key]], "label": label}
-    records = list(labels.values())
     print(_table(records))
     for line in _checks(records):
         print(line)
