@@ -375,7 +375,7 @@ class KirchhoffLoveShell:
 
     def _surface_vector(self, traction):
         """Load vector of a force per unit reference area ``traction(x) -> (3, E, q)``."""
-        f = np.asarray(traction(self.basis.global_coordinates().value), dtype=float)
+        f = np.asarray(traction(np.asarray(self.basis.global_coordinates())), dtype=float)
         fe = np.einsum("ceq,eqb,eq->ebc", f, self.N, self.w)
         return self.pattern.vector(fe.reshape(len(fe), -1))
 
@@ -694,7 +694,7 @@ class KirchhoffLoveShell:
         X, local = reference_subdivision(subdivisions)
         sample = CellBasis(self.mesh, self.element, quadrature=(X, np.ones(X.shape[1])))
         ref = sample.mapping.F(X)                                      # (2, E, m)
-        disp = np.stack([sample.interpolate(np.asarray(u)[k::3]).value for k in range(3)])
+        disp = np.stack([np.asarray(sample.interpolate(np.asarray(u)[k::3])) for k in range(3)])
         pos = np.concatenate([ref, np.zeros_like(ref[:1])]) + disp    # (3, E, m)
         E, m = pos.shape[1:]
         tris = (np.arange(E)[:, None, None] * m + local[None]).reshape(-1, 3)
