@@ -258,8 +258,9 @@ class KLPoint:
         C_m : (3, 3) membrane stiffness; N : (e, q, 3) membrane forces;
         M : (e, q, 3) moments; D : (e, q, 3) moment tangents dM_v/dκ_v;
         w : (e, q) quadrature weights; strain_projection : (q, q), optional
-        projection of the membrane strain (:func:`polynomial_projection`), then ``N``
-        must be the forces of the projected strain.
+        self-adjoint operator ``Q`` of an assumed membrane strain
+        (:func:`assumed_strain_operator`, energy ``½ ∫ εᵀ C_m Q ε``); then ``N`` must be
+        ``C_m Q ε``.
         """
         da3, dn = self.normal_variation()
         de = self.strain_variation()
@@ -276,7 +277,7 @@ class KLPoint:
         A = np.empty((e, nq, 12, nd))
         B = np.empty((e, nq, 12, nd))
         A[:, :, 0:3] = de
-        # projected strain: ∫ (P ∂ε)ᵀ C (P ∂ε) = ∫ ∂εᵀ C (P ∂ε) (P self-adjoint, C P ∂ε in range(P))
+        # assumed strain: the second variation of ½ ∫ εᵀ C Q ε is ∫ ∂εᵀ C (Q ∂ε) (Q self-adjoint)
         dep = de if strain_projection is None else np.einsum("pq,eqvI->epvI", strain_projection, de)
         B[:, :, 0:3] = np.matmul(C_m, dep) * w[..., None, None]
         A[:, :, 3:6] = dk
