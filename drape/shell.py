@@ -49,7 +49,7 @@ from typing import Callable, Optional, Sequence
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from skfem import CellBasis, FacetBasis
+from skfem import CellBasis, FacetBasis, MeshTri
 
 from constitutive.law import BendingLaw
 from constitutive.units import G0
@@ -185,27 +185,6 @@ def membrane_matrix(material):
     return np.array([[E1 / den, nu21 * E1 / den, 0.0],
                      [nu12 * E2 / den, E2 / den, 0.0],
                      [0.0, 0.0, G12]])
-
-
-def reference_subdivision(n: int):
-    """Points and triangles of the reference triangle cut into ``n²`` congruent pieces.
-
-    >>> X, tri = reference_subdivision(2)
-    >>> X.shape, tri.shape
-    ((2, 6), (4, 3))
-    """
-    if int(n) < 1:
-        raise ShellInputError(f"subdivisions = {n!r} must be >= 1")
-    n = int(n)
-    ij = [(i, j) for j in range(n + 1) for i in range(n + 1 - j)]
-    index = {p: k for k, p in enumerate(ij)}
-    tri = []
-    for i, j in ij:
-        if i + j < n:
-            tri.append((index[i, j], index[i + 1, j], index[i, j + 1]))
-        if i + j < n - 1:
-            tri.append((index[i + 1, j], index[i + 1, j + 1], index[i, j + 1]))
-    return np.array(ij, dtype=float).T / n, np.array(tri)
 
 
 class KirchhoffLoveShell:
@@ -676,22 +655,26 @@ class KirchhoffLoveShell:
                     damping_work=self._damping_work,
                     total=kinetic + strain + ext + self._friction_work + self._damping_work)
 
-    def deformed_surface(self, u, subdivisions: int = 4):
+    def deformed_surface(self, u, refine: int = 2):
         """The deformed surface sampled inside every triangle, as a triangle soup.
 
         The vertices alone draw each curved Argyris triangle as its flat chord triangle;
         a fold crest between two vertices is lost, and how much is lost depends on the
-        mesh. Sampling every triangle on ``subdivisions``² sub-triangles of the exact
-        field makes what is measured on it (a drape shadow) the solution's own.
+        mesh. Sampling every triangle on the reference triangle refined ``refine`` times
+        (4^refine sub-triangles) makes what is measured on it (a drape shadow) the
+        solution's own.
 
         Returns
         -------
         points : ndarray, shape (E m, 3)
-            Deformed positions (reference x, y, 0 plus displacement) of the
-            ``m = (n + 1)(n + 2)/2`` sample points of each of the E triangles.
-        triangles : ndarray of int, shape (E n², 3)
+            Deformed positions (reference x, y, 0 plus displacement) of the m sample
+            points of each of the E triangles.
+        triangles : ndarray of int, shape (E 4^refine, 3)
         """
-        X, local = reference_subdivision(subdivisions)
+        if int(refine) < 0:
+            raise ShellInputError(f"refine = {refine!r} must be >= 0")
+        ref_tri = MeshTri.init_refdom().refined(int(refine))
+        X, local = ref_tri.p, ref_tri.t.T
         sample = CellBasis(self.mesh, self.element, quadrature=(X, np.ones(X.shape[1])))
         ref = sample.mapping.F(X)                                      # (2, E, m)
         disp = np.stack([np.asarray(sample.interpolate(np.asarray(u)[k::3])) for k in range(3)])
