@@ -405,6 +405,11 @@ class ModelSpec(_Section):
     (0: pure assumed strain; 0.01–0.1 suppresses the spurious in-plane modes of degrees 0–2;
     1: the consistent strain)."""
 
+    friction_tangent: Literal["consistent", "nonnegative"] = "consistent"
+    """Newton's tangent of the friction moment: ``nonnegative`` floors it at zero where the
+    law softens (the moment falls with curvature after a reversal, e.g. Fabric 2's weft as
+    printed: −51 k1), which otherwise sends Newton off. The solution is unchanged."""
+
     @model_validator(mode="after")
     def _membrane_needs_large(self):
         if self.membrane_stabilization and self.membrane_strain_degree is None:
@@ -629,11 +634,21 @@ class SolverSpec(_Section):
     """Step halvings before the run stops with a convergence error."""
     quasi_static: bool = False
     """Equilibrium path (no inertia, no damping): load steps of ``dt`` in pseudo-time up to t_end."""
+    settling_dt: Q("s", gt=0) | None = None
+    """Longest time step once every load has stopped changing (the settling phase); default
+    ``dt``. From there the step doubles after every 4 converged steps up to this value: what
+    moves then is a slow, overdamped creep into equilibrium, and as the step grows the
+    update tends to Newton's on the static equilibrium (pseudo-transient continuation).
+    Output marks (``every_dt``) are not landed on in this phase."""
 
     @model_validator(mode="after")
     def _stable(self):
         if self.dt > self.t_end:
             raise _rule(f"@.dt = {self.dt}: must not exceed @.t_end = {self.t_end}")
+        if self.settling_dt is not None and self.settling_dt < self.dt:
+            raise _rule(f"@.settling_dt = {self.settling_dt}: must not be shorter than @.dt = {self.dt}")
+        if self.settling_dt is not None and self.quasi_static:
+            raise _rule("@.settling_dt: only for dynamic runs (quasi_static = true has no settling phase)")
         gamma = self.newmark_gamma
         beta = self.newmark_beta
         if beta < gamma / 2 - 1e-12:

@@ -603,14 +603,17 @@ def _sticky_step(model, state, dt, beta, gamma, alpha_hht, order, newton, counts
 
 def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None, *, beta=None, gamma=None,
               alpha_hht: float = 0.0, hit_times=(), max_cuts: int = 6, grow_after: int = 4, on_step=None,
-              progress: bool = False, **newton) -> NewmarkState:
+              progress: bool = False, dt_max: float | None = None, **newton) -> NewmarkState:
     """Integrate from ``state`` (default: :func:`initial_state`) to ``t_end``.
 
     Each converged step is committed (``model.commit``) and passed to
     ``on_step(state, info)``; a callback returning ``True`` stops the run after
     that step. On a Newton failure the step is halved and retried from the last
     converged state, up to ``max_cuts`` halvings of ``dt``; after ``grow_after``
-    consecutive successes the step doubles back towards ``dt``. Steps are
+    consecutive successes the step doubles back towards ``dt``, and on beyond it
+    up to ``dt_max`` when that is given (pseudo-transient continuation: a fabric
+    creeping into equilibrium under constant loads needs ever fewer, longer steps,
+    and as the step grows the update tends to Newton's on the static equilibrium). Steps are
     shortened to land exactly on ``hit_times`` (output times, turning points).
     Newton's linear systems use :class:`LaggedLU` unless ``linear_solver`` is
     given (one factorization serves many steps). With ``predictor="auto"``
@@ -628,6 +631,11 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
         raise IntegratorInputError(f"dt must be > 0, got {dt!r}")
     if int(max_cuts) < 0:
         raise IntegratorInputError(f"max_cuts must be >= 0, got {max_cuts!r}")
+    dt_max = dt if dt_max is None else float(dt_max)
+    if not dt_max >= dt:
+        raise IntegratorInputError(f"dt_max must be >= dt = {dt}, got {dt_max!r}")
+    # negative levels are the doublings beyond dt
+    min_level = -int(np.ceil(np.log2(dt_max / dt) - 1e-9))
     state = initial_state(model) if state is None else state
     if newton.get("linear_solver") is None:
         newton["linear_solver"] = LaggedLU()
@@ -648,7 +656,7 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
         bar = tqdm(total=float(t_end - state.t), unit="s", unit_scale=False, desc="integrate")
     try:
         while state.t < t_end - eps:
-            h = dt / 2**level
+            h = min(dt * 2.0**-level, dt_max)
             while hits and hits[0] <= state.t + eps:
                 hits.pop(0)
             limit = min(t_end, hits[0]) if hits else t_end
@@ -668,14 +676,14 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
                 continue
             model.commit(new.u, new.v, new.a)
             step += 1
-            info.step, info.cuts = step, level
+            info.step, info.cuts = step, max(level, 0)
             if bar is not None:
                 bar.update(new.t - state.t)
             state = new
             if on_step is not None and on_step(state, info) is True:
                 break
             successes += 1
-            if level > 0 and successes >= grow_after:
+            if level > min_level and successes >= grow_after:
                 level, successes = level - 1, 0
     finally:
         if bar is not None:

@@ -235,6 +235,10 @@ class KirchhoffPlate:
         Include ``ρ_A ∫ N Nᵀ``. ``False`` gives pure bending (KES strip).
     intorder : int, optional
         Quadrature order (default 4 for Morley, 10 for Argyris).
+    friction_tangent : {"consistent", "nonnegative"}
+        Newton's tangent of the friction moment (:meth:`constitutive.law.BendingState.trial`):
+        ``"nonnegative"`` floors it at zero where a law softens (Fabric 2's weft); the
+        residual, hence the solution, is unchanged.
 
     Attributes
     ----------
@@ -257,8 +261,12 @@ class KirchhoffPlate:
         law_inertia: bool = True,
         translational_inertia: bool = True,
         intorder: int | None = None,
+        friction_tangent: str = "consistent",
     ):
         self.mesh = mesh
+        if friction_tangent not in ("consistent", "nonnegative"):
+            raise PlateInputError(f"friction_tangent must be 'consistent' or 'nonnegative', got {friction_tangent!r}")
+        self.friction_tangent = friction_tangent
         supports, rotations = dict(supports or {}), dict(rotations or {})
         self._constraints = self._plate_constraints(supports, rotations)
         self.elem, self.kind = _make_element(element, self._constraints)
@@ -464,7 +472,7 @@ class KirchhoffPlate:
         moment, tangent = np.empty_like(kappa), np.empty_like(kappa)
         for j, d in enumerate(("xx", "yy")):
             sl = slice(j * nq, (j + 1) * nq)
-            moment[:, sl], tangent[:, sl] = self.states[d].trial(kappa[:, sl])
+            moment[:, sl], tangent[:, sl] = self.states[d].trial(kappa[:, sl], self.friction_tangent)
         fe = element_vector(self._B_dirs, moment, self._dx_dirs)
         ke = element_matrix(self._B_dirs, self._B_dirs, self._dx_dirs, tangent)
         f_int = self.pattern.vector(fe) + self.K_twist @ u

@@ -461,6 +461,7 @@ def build_model(case: Case, mesh, material):
             rotations=rotations, gravity=loads.get("gravity", 0.0),
             pressure=loads.get("pressure", 0.0), rayleigh=rayleigh,
             translational_inertia=spec.translational_inertia,
+            friction_tangent=spec.friction_tangent,
         )
     from drape.shell import KirchhoffLoveShell
 
@@ -476,7 +477,8 @@ def build_model(case: Case, mesh, material):
     return KirchhoffLoveShell(mesh, material, clamped=clamped,
                               gravity=loads.get("gravity", 0.0), rayleigh=rayleigh,
                               membrane_strain_degree=spec.membrane_strain_degree,
-                              membrane_stabilization=spec.membrane_stabilization, **kwargs)
+                              membrane_stabilization=spec.membrane_stabilization,
+                              friction_tangent=spec.friction_tangent, **kwargs)
 
 
 def fold_perturbation(case: Case):
@@ -704,10 +706,16 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
                 newmark.quasi_static(model, np.ones_like(times), times=times, state=state0,
                                      max_cuts=solver.max_cuts, on_step=rec, **newton)
             else:
-                newmark.integrate(model, solver.t_end, solver.dt, state=state0,
-                                  beta=solver.newmark_beta, gamma=solver.newmark_gamma,
-                                  alpha_hht=solver.alpha_hht, max_cuts=solver.max_cuts,
-                                  hit_times=hit_times(case), on_step=rec, **newton)
+                state = state0
+                for t_stop, dt_max, settling in time_phases(case):
+                    # the settling phase starts at dt and lands on no output marks: its step grows
+                    state = newmark.integrate(model, t_stop, solver.dt, state=state, dt_max=dt_max,
+                                              beta=solver.newmark_beta, gamma=solver.newmark_gamma,
+                                              alpha_hht=solver.alpha_hht, max_cuts=solver.max_cuts,
+                                              hit_times=() if settling else hit_times(case),
+                                              on_step=rec, **newton)
+                    if rec.stop_reason is not None:
+                        break
             if rec.stop_reason is not None:
                 status, reason = "settled", rec.stop_reason
         except newmark.ConvergenceError as exc:
@@ -754,6 +762,27 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
     if error is not None:
         raise error
     return summary
+
+
+def time_phases(case: Case) -> list[tuple[float, float]]:
+    """``(t_stop, dt_max, settling)`` of each stretch of a dynamic run: ``dt`` while loads
+    change, then (when ``settling_dt`` is given, once they are constant) a settling phase whose
+    step grows from ``dt`` up to ``settling_dt``.
+
+    >>> from drape.case import parse_case
+    >>> c = parse_case({"case": {"name": "x"}, "material": {"name": "f"},
+    ...     "mesh": {"kind": "strip", "length": 1.0, "width": 0.1, "nx": 4},
+    ...     "load": {"gravity": {"ramp_time": 0.2}},
+    ...     "solver": {"dt": 0.01, "t_end": 1.0, "settling_dt": 0.05}})
+    >>> time_phases(c)
+    [(0.2, 0.01, False), (1.0, 0.05, True)]
+    """
+    solver = case.solver
+    t_change = case.load.end_time()
+    if solver.settling_dt is None or t_change >= solver.t_end:
+        return [(solver.t_end, solver.dt, False)]
+    settle = (solver.t_end, solver.settling_dt, True)
+    return [settle] if t_change <= 0.0 else [(t_change, solver.dt, False), settle]
 
 
 def hit_times(case: Case) -> list[float]:

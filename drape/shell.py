@@ -236,6 +236,10 @@ class KirchhoffLoveShell:
         With ``membrane_strain_degree``: the weight γ ∈ [0, 1] kept on the part of the
         strain the projection removes (:func:`drape.kinematics.assumed_strain_operator`);
         0.01–0.1 suppresses the spurious in-plane modes of degrees 0–2.
+    friction_tangent : {"consistent", "nonnegative"}
+        Newton's tangent of the friction moment (:meth:`constitutive.law.BendingState.trial`):
+        ``"nonnegative"`` floors it at zero where a law softens (Fabric 2's weft); the
+        residual, hence the solution, is unchanged.
     """
 
     def __init__(self, mesh, material, *, clamped: Sequence[str] = ("clamped",),
@@ -243,8 +247,11 @@ class KirchhoffLoveShell:
                  edge_load: Optional[Callable] = None, end_moment=None,
                  surface_load=None, load_boundary: str = "free", rayleigh=(0.0, 0.0), intorder: int = 6,
                  g: float = G_STANDARD, chunk: int = 512, membrane_strain_degree=None,
-                 membrane_stabilization: float = 0.0):
+                 membrane_stabilization: float = 0.0, friction_tangent: str = "consistent"):
         self.mesh = mesh
+        if friction_tangent not in ("consistent", "nonnegative"):
+            raise ShellInputError(f"friction_tangent must be 'consistent' or 'nonnegative', got {friction_tangent!r}")
+        self.friction_tangent = friction_tangent
         names = [clamped] if isinstance(clamped, str) else list(clamped)
         bnd = mesh.boundaries or {}
         for name in names:
@@ -382,8 +389,8 @@ class KirchhoffLoveShell:
             M1, D1 = k1w * kappa[..., 0], np.full(kappa.shape[:-1], k1w)
             M2, D2 = k1f * kappa[..., 1], np.full(kappa.shape[:-1], k1f)
         else:
-            M1, D1 = self.warp_state.trial(kappa[..., 0])
-            M2, D2 = self.weft_state.trial(kappa[..., 1])
+            M1, D1 = self.warp_state.trial(kappa[..., 0], self.friction_tangent)
+            M2, D2 = self.weft_state.trial(kappa[..., 1], self.friction_tangent)
         M = np.stack([M1, M2, 0.5 * self.twist * kappa[..., 2]], axis=-1)
         D = np.stack([D1, D2, np.full_like(D1, 0.5 * self.twist)], axis=-1)
         return M, D

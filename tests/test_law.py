@@ -121,3 +121,24 @@ def test_state_shapes_and_copy():
     c = fst.copy()
     c.commit(np.array([0.0, 0.0]))
     assert not np.allclose(fst.friction.y1, c.friction.y1)
+
+
+def test_fabric2_weft_softens_and_the_nonnegative_friction_tangent_keeps_the_moment():
+    """Table 4.13's Fabric 2 weft: the slow Dahl term overtakes the fast one within
+    ~1e-3 cm⁻¹ of a reversal, so dM/dκ < 0 there. Independent check: the moment's own finite
+    difference along a monotone load from rest."""
+    from constitutive.material import load_material
+
+    law = load_material("fabric2").weft
+    kappa = np.linspace(0.0, 1.0, 20001)          # 1/m, i.e. up to 0.01 cm⁻¹
+    st = law.new_state(kappa.shape)
+    M, dM = st.trial(kappa)
+    fd = np.gradient(M, kappa)
+    assert np.allclose(dM[1:-1], fd[1:-1], rtol=1e-3, atol=1e-3 * law.k1)
+    assert dM.min() < -50 * law.k1                # softening: −51 k1
+    M2, dM2 = st.trial(kappa, friction_tangent="nonnegative")
+    np.testing.assert_array_equal(M2, M)          # the moment is untouched
+    elastic = law.k1 + 3 * law.k3 * kappa**2
+    assert np.all(dM2 >= elastic * (1 - 1e-12)) and np.allclose(dM2[dM > elastic], dM[dM > elastic])
+    with pytest.raises(ValueError, match="friction_tangent"):
+        st.trial(kappa, friction_tangent="secant")

@@ -206,6 +206,30 @@ def test_settling_stops_the_run_once_kinetic_energy_is_small(tmp_path):
     assert all(abs(t / 0.5 - round(t / 0.5)) < 1e-9 for t in times[:-1])
 
 
+def test_settling_dt_lengthens_the_step_only_once_the_loads_are_constant(tmp_path):
+    case = small_case(**{"solver.t_end": 2.0, "solver.dt": 0.01, "solver.settling_dt": 0.05,
+                         "load.gravity.ramp_time": 0.1, "stop.kinetic_energy": 1e-12,
+                         "stop.steps": 3, "output.every_dt": 0.5, "solver.atol": 1e-12})
+    parts = fake_parts(case, c=2 * np.sqrt(50.0 * 0.2), gravity=lambda t: case.load.gravity.amplitude(t))
+    summary = runner.run_case(case, tmp_path, quiet=True, parts=parts)
+    assert summary["status"] == "settled", summary["reason"]
+    rows = read_history(tmp_path)[1:]
+    ramp = [r["dt"] for r in rows if r["t"] <= 0.1 + 1e-12]
+    after = [r["dt"] for r in rows if r["t"] > 0.1 + 1e-12]
+    assert ramp == pytest.approx([0.01] * 10)
+    # then the step doubles every 4 steps, capped at settling_dt; no output mark is landed on
+    assert after[:12] == pytest.approx([0.01] * 4 + [0.02] * 4 + [0.04] * 4)
+    assert after[12:] == pytest.approx([0.05] * len(after[12:])) and len(after) > 12
+    assert all(r["cuts"] == 0 for r in rows)
+    # the same static deflection as the fine-stepped run (u = −m g / k)
+    assert rows[-1]["tip_uz"] == pytest.approx(-0.2 * G / 50.0, rel=1e-4)
+
+
+def test_settling_dt_shorter_than_dt_is_rejected_naming_the_key():
+    with pytest.raises(Exception, match=r"solver\.settling_dt.*must not be shorter than solver\.dt"):
+        small_case(**{"solver.settling_dt": 0.001})
+
+
 @_needs("meshes", "drape.cusick")
 def test_kinetic_fraction_matches_the_cusick_reference_energy():
     from drape.cusick import kinetic_energy_threshold
@@ -365,3 +389,18 @@ def test_bending_scale_makes_the_same_fabric_stiffer():
         assert c(lb, b) == pytest.approx(2 * c(la, a), rel=1e-12)
     with pytest.raises(Exception, match="bending_scale"):
         load_case(Path(__file__).parents[1] / "cases" / "cusick_fabric1.toml", ["material.bending_scale=0"])
+
+
+def test_nonnegative_friction_tangent_changes_newton_only_not_the_solution(tmp_path):
+    """Fabric 2 (softening weft friction) on the cantilever: the floored tangent reaches the
+    same states as the consistent one (same residual; only Newton's matrix differs)."""
+    tips = {}
+    for ft in ("consistent", "nonnegative"):
+        case = load_case(Path(__file__).parents[1] / "cases" / "cantilever.toml",
+                         ["material.name=fabric2", f"model.friction_tangent={ft}", "solver.t_end=0.5"])
+        runner.run_case(case, tmp_path / ft, quiet=True)
+        tips[ft] = np.array([row["tip_uz"] for row in read_history(tmp_path / ft)])
+    assert len(tips["consistent"]) == len(tips["nonnegative"]) > 40
+    np.testing.assert_allclose(tips["nonnegative"], tips["consistent"], rtol=1e-7, atol=1e-12)
+    with pytest.raises(Exception, match="friction_tangent"):
+        load_case(Path(__file__).parents[1] / "cases" / "cantilever.toml", ["model.friction_tangent=secant"])
