@@ -32,7 +32,7 @@ import numpy as np
 
 from constitutive.friction import FrictionParams, FrictionState, ParameterError, _as_param, _check
 
-__all__ = ["BendingLaw", "BendingState"]
+__all__ = ["BendingLaw", "BendingState", "FRICTION_TANGENTS", "check_friction_tangent"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -155,6 +155,17 @@ class BendingLaw:
         return self.m * np.asarray(kappa_ddot) + self.d * np.asarray(kappa_dot) + M
 
 
+#: Newton tangents of the friction moment :meth:`BendingState.trial` offers.
+FRICTION_TANGENTS = ("consistent", "nonnegative")
+
+
+def check_friction_tangent(name: str) -> str:
+    """``name`` if it is one of :data:`FRICTION_TANGENTS`, else ValueError naming them."""
+    if name not in FRICTION_TANGENTS:
+        raise ValueError(f"friction_tangent = {name!r}: must be one of {FRICTION_TANGENTS}")
+    return name
+
+
 class BendingState:
     """History of an array of material points under one :class:`BendingLaw`.
 
@@ -207,8 +218,7 @@ class BendingState:
         >>> bool(st.trial(k)[1][0] < 1.0), st.trial(k, "nonnegative")[1].tolist()
         (True, [1.0])
         """
-        if friction_tangent not in ("consistent", "nonnegative"):
-            raise ValueError(f"friction_tangent = {friction_tangent!r}: 'consistent' or 'nonnegative'")
+        check_friction_tangent(friction_tangent)
         M, dM = self.law.elastic(kappa)
         if self.friction is not None:
             Mf, dMf = self.friction.trial(kappa)

@@ -39,6 +39,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 
+from constitutive.law import check_friction_tangent
 from constitutive.units import G0
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -264,9 +265,10 @@ class KirchhoffPlate:
         friction_tangent: str = "consistent",
     ):
         self.mesh = mesh
-        if friction_tangent not in ("consistent", "nonnegative"):
-            raise PlateInputError(f"friction_tangent must be 'consistent' or 'nonnegative', got {friction_tangent!r}")
-        self.friction_tangent = friction_tangent
+        try:
+            self.friction_tangent = check_friction_tangent(friction_tangent)
+        except ValueError as exc:
+            raise PlateInputError(str(exc)) from None
         supports, rotations = dict(supports or {}), dict(rotations or {})
         self._constraints = self._plate_constraints(supports, rotations)
         self.elem, self.kind = _make_element(element, self._constraints)

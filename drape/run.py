@@ -764,7 +764,7 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
     return summary
 
 
-def time_phases(case: Case) -> list[tuple[float, float]]:
+def time_phases(case: Case) -> list[tuple[float, float, bool]]:
     """``(t_stop, dt_max, settling)`` of each stretch of a dynamic run: ``dt`` while loads
     change, then (when ``settling_dt`` is given, once they are constant) a settling phase whose
     step grows from ``dt`` up to ``settling_dt``.

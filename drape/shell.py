@@ -51,7 +51,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from skfem import CellBasis, FacetBasis, MeshTri
 
-from constitutive.law import BendingLaw
+from constitutive.law import BendingLaw, check_friction_tangent
 from constitutive.units import G0
 from drape.assembly import SparsityPattern
 from drape.kinematics import KLPoint, assumed_strain_operator, basis_arrays, gram
@@ -249,9 +249,10 @@ class KirchhoffLoveShell:
                  g: float = G_STANDARD, chunk: int = 512, membrane_strain_degree=None,
                  membrane_stabilization: float = 0.0, friction_tangent: str = "consistent"):
         self.mesh = mesh
-        if friction_tangent not in ("consistent", "nonnegative"):
-            raise ShellInputError(f"friction_tangent must be 'consistent' or 'nonnegative', got {friction_tangent!r}")
-        self.friction_tangent = friction_tangent
+        try:
+            self.friction_tangent = check_friction_tangent(friction_tangent)
+        except ValueError as exc:
+            raise ShellInputError(str(exc)) from None
         names = [clamped] if isinstance(clamped, str) else list(clamped)
         bnd = mesh.boundaries or {}
         for name in names:
