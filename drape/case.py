@@ -611,7 +611,8 @@ class SolverSpec(_Section):
     """[solver]: time integration (Newmark / HHT-α with Newton iterations)."""
 
     dt: Q("s", gt=0)
-    """Initial (and largest) time step [s]."""
+    """Initial and largest time step [s] (after a cut the step grows back to it); only the
+    settling phase goes beyond it, up to ``settling_dt``."""
     t_end: Q("s", gt=0)
     """End of the simulated time [s] (a [stop] rule may end the run earlier)."""
     alpha_hht: float = Field(0.0, ge=-1.0 / 3.0, le=0.0)
