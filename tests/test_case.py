@@ -186,3 +186,13 @@ def test_cusick_mesh_grading_below_one_is_named():
     with pytest.raises(CaseError) as info:
         load_case(Path(__file__).parents[1] / "cases" / "cusick_fabric1.toml", ["mesh.radial_grading=0.5"])
     assert str(info.value) == "mesh.radial_grading = 0.5: must be >= 1.0"
+
+
+def test_friction_tangent_choices_are_the_laws():
+    """The case schema lists the law's friction tangents (kept in one place: constitutive.law)."""
+    import typing
+
+    from constitutive.law import FRICTION_TANGENTS
+    from drape.case import ModelSpec
+
+    assert typing.get_args(ModelSpec.model_fields["friction_tangent"].annotation) == FRICTION_TANGENTS
