@@ -1,0 +1,473 @@
+"""Drape a catalogue: one base case, many runs, on Dask.
+
+``python -m drape.sweep BASE.toml (--table RUNS.csv | --grid KEY=V1,V2,... ...) --out DIR``
+
+Each run is an ordinary case run (:func:`drape.run.run_case`) of the base case with the row's
+keys overridden, in its own folder ``DIR/runs/<name>/``. The runs are Dask tasks: on an
+embedded :class:`distributed.LocalCluster` (one single-threaded worker process per core) by
+default, or on an existing cluster with ``--scheduler tcp://HOST:PORT`` (or the
+``DASK_SCHEDULER_ADDRESS`` environment variable). Workers of an existing cluster must see the
+case file and ``DIR`` under the same paths (a shared file system).
+
+A run table is a CSV file with one row per run: a ``name`` column (optional; ``run000`` ...
+otherwise), any case keys by their dotted names as columns (values read like ``--set``
+values; an empty cell keeps the base case's value), and columns ``measured.<quantity>`` that
+are not case keys but measurements copied into the results (``measured.DC``, the measured
+drape coefficient in %, is drawn beside the computed one in the report). A grid is the
+product of the values given for each key.
+
+``DIR/results.csv`` gets one row per finished run as soon as it finishes: the inputs, the
+status, the drape coefficient and nodes (Cusick runs), the settling time, the wall time and,
+for a run that did not finish well, the one-line reason. A run that fails does not stop the
+others. ``--resume`` keeps the rows already finished and runs only the others; the sweep's
+definition is kept in ``DIR/sweep.json``, so ``--resume --out DIR`` alone continues it.
+
+Statuses: those of :mod:`drape.run` (completed, settled, failed, interrupted, terminated,
+error), ``invalid`` (the row's case does not validate or cannot be built) and ``lost`` (the
+worker running it died). Exit codes: 0 every run finished (whatever its status), 1 bad input,
+130 interrupted (Ctrl-C), 143 terminated (SIGTERM): finished rows stay in ``results.csv``.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import itertools
+import json
+import math
+import os
+import re
+import signal
+import sys
+import time
+import uuid
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from drape.case import CaseError
+
+__all__ = ["SweepRow", "SweepError", "read_table", "grid_rows", "run_row", "run_sweep",
+           "RESULT_COLUMNS", "read_results", "main"]
+
+#: Output columns of results.csv after the input columns.
+RESULT_COLUMNS = ("status", "reason", "DC_percent", "nodes", "settling_time_s", "t_final_s",
+                  "steps", "wall_time_s", "bending_length_m", "B_warp_Nm", "B_weft_Nm",
+                  "weight_N_per_m2", "run_dir", "pvd", "worker")
+
+#: Statuses that mean "this run has to be run again" on ``--resume``.
+UNFINISHED = ("interrupted", "terminated", "lost")
+
+#: Thread limits of a run: one core per worker process, whatever its kernels could use.
+SINGLE_THREADED = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+                   "OPENBLAS_NUM_THREADS": "1"}
+
+MEASURED = "measured."
+_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
+
+
+class SweepError(ValueError):
+    """A run table, grid or sweep folder breaks a rule (the message names it)."""
+
+
+class SweepTerminated(KeyboardInterrupt):
+    """SIGTERM received by the sweep's client."""
+
+
+@dataclass(frozen=True)
+class SweepRow:
+    """One run of a sweep: its name, its case overrides and the measured values beside it."""
+
+    name: str
+    keys: dict = field(default_factory=dict)       # dotted case key -> value text
+    measured: dict = field(default_factory=dict)   # "measured.<quantity>" -> value text
+
+    def overrides(self) -> list[str]:
+        """The row as ``--set`` items."""
+        return [f"{k}={v}" for k, v in self.keys.items()]
+
+
+# --------------------------------------------------------------------------- rows
+def read_table(path) -> list[SweepRow]:
+    """Rows of a run table (CSV with a header; see the module docstring).
+
+    >>> import io, tempfile, os
+    >>> with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as fh:
+    ...     _ = fh.write("name,material.bending_scale,measured.DC\\nstiff,2,31.5\\nbase,,\\n")
+    >>> rows = read_table(fh.name); os.unlink(fh.name)
+    >>> [(r.name, r.keys, r.measured) for r in rows]
+    [('stiff', {'material.bending_scale': '2'}, {'measured.DC': '31.5'}), ('base', {}, {})]
+    """
+    path = Path(path)
+    try:
+        with open(path, newline="") as fh:
+            lines = [[cell.strip() for cell in rec] for rec in csv.reader(fh)]
+    except FileNotFoundError:
+        raise SweepError(f"run table {str(path)!r} does not exist") from None
+    columns, records = (lines[0], lines[1:]) if lines else ([], [])
+    if not columns:
+        raise SweepError(f"run table {path}: no header row (a 'name' column and case keys)")
+    for col in columns:
+        if not col or (col != "name" and not col.startswith(MEASURED) and "." not in col):
+            raise SweepError(f"run table {path}: column {col!r} is neither 'name', a dotted case "
+                             f"key (e.g. material.bending_scale) nor measured.<quantity>")
+    if len(set(columns)) != len(columns):
+        raise SweepError(f"run table {path}: repeated column in {columns}")
+    rows = []
+    for i, rec in enumerate(r for r in records if any(r)):
+        if len(rec) != len(columns):
+            raise SweepError(f"run table {path}, row {i + 1}: {len(rec)} cells for "
+                             f"{len(columns)} columns")
+        cells = dict(zip(columns, rec))
+        name = cells.pop("name", "") or f"run{i:03d}"
+        keys = {k: v for k, v in cells.items() if v and not k.startswith(MEASURED)}
+        measured = {k: v for k, v in cells.items() if v and k.startswith(MEASURED)}
+        rows.append(SweepRow(name, keys, measured))
+    return _checked(rows, f"run table {path}")
+
+
+def grid_rows(specs: list[str]) -> list[SweepRow]:
+    """Rows of the product of ``KEY=V1,V2,...`` value lists (the last key varies fastest).
+
+    >>> [r.keys for r in grid_rows(["mesh.nx=4,8", "material.friction=true,false"])][:2]
+    [{'mesh.nx': '4', 'material.friction': 'true'}, {'mesh.nx': '4', 'material.friction': 'false'}]
+    """
+    axes = []
+    for spec in specs:
+        key, sep, values = spec.partition("=")
+        key = key.strip()
+        if not sep or "." not in key:
+            raise SweepError(f"--grid {spec!r}: expected KEY=V1,V2,... with a dotted case KEY")
+        items = [v.strip() for v in values.split(",")]
+        if not all(items):
+            raise SweepError(f"--grid {spec!r}: empty value in the list")
+        axes.append([(key, v) for v in items])
+    if not axes:
+        raise SweepError("--grid: give at least one KEY=V1,V2,...")
+    keys = [axis[0][0] for axis in axes]
+    if len(set(keys)) != len(keys):
+        raise SweepError(f"--grid: key given twice in {keys}")
+    rows = [SweepRow(f"run{i:03d}", dict(combo)) for i, combo in enumerate(itertools.product(*axes))]
+    return _checked(rows, "--grid")
+
+
+def _checked(rows: list[SweepRow], where: str) -> list[SweepRow]:
+    if not rows:
+        raise SweepError(f"{where}: no runs")
+    seen = set()
+    for row in rows:
+        if not _NAME.match(row.name):
+            raise SweepError(f"{where}: run name {row.name!r} must be letters, digits, '.', '_' "
+                             f"or '-' (it names the run's folder)")
+        if row.name in seen:
+            raise SweepError(f"{where}: run name {row.name!r} appears twice")
+        seen.add(row.name)
+    return rows
+
+
+# --------------------------------------------------------------------------- one run
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(part.strip() for part in str(exc).splitlines() if part.strip())
+    return f"{type(exc).__name__}: {text}" if not isinstance(exc, (CaseError, ValueError)) else text
+
+
+def _material_columns(material) -> dict:
+    """B of each direction (simulated KES-FB), the weight W and the bending length (B/W)^(1/3).
+
+    The bending length of the fabric uses the geometric mean of the warp and weft B, i.e. it
+    is the geometric mean of the two directions' bending lengths.
+    """
+    from constitutive.units import G0
+
+    kes = material.simulated_kes()
+    b_warp, b_weft = float(kes["warp"].B), float(kes["weft"].B)
+    weight = float(material.areal_mass) * G0
+    return {"B_warp_Nm": b_warp, "B_weft_Nm": b_weft, "weight_N_per_m2": weight,
+            "bending_length_m": (math.sqrt(b_warp * b_weft) / weight) ** (1.0 / 3.0)}
+
+
+def _worker_address() -> str:
+    from distributed import get_worker
+
+    try:
+        return get_worker().address
+    except ValueError:   # called outside a Dask worker
+        return ""
+
+
+def run_row(case_path: str, overrides: list[str], run_dir: str) -> dict:
+    """Run one row: an ordinary case run of ``case_path`` with ``overrides`` in ``run_dir``.
+
+    Never raises for a bad row or a failed run: the returned result columns say what happened
+    (this is the Dask task, and one run must not stop the others).
+    """
+    for key, value in SINGLE_THREADED.items():
+        os.environ.setdefault(key, value)
+    from drape import run as runner
+    from drape.case import load_case
+
+    wall0 = time.perf_counter()
+    out = {"run_dir": run_dir, "worker": _worker_address()}
+    try:
+        case = load_case(case_path, overrides)
+        parts = runner.build(case)
+        out.update(_material_columns(parts.material))
+    except (CaseError, ValueError) as exc:
+        return {**out, "status": "invalid", "reason": _one_line(exc)}
+    except Exception as exc:
+        return {**out, "status": "error", "reason": _one_line(exc)}
+    source = f"from {case_path}" + "".join(f" --set {o}" for o in overrides)
+    try:
+        summary = runner.run_case(case, Path(run_dir), quiet=True, parts=parts, source=source)
+    except Exception as exc:
+        return {**out, "status": "error", "reason": _one_line(exc),
+                "wall_time_s": time.perf_counter() - wall0}
+    analysis = summary.get("analysis", {})
+    out.update({"status": summary["status"],
+                "reason": "" if summary["status"] in ("completed", "settled") else summary["reason"],
+                "DC_percent": analysis.get("drape_coefficient_percent"),
+                "nodes": analysis.get("n_nodes"),
+                "settling_time_s": summary.get("settling_time"),
+                "t_final_s": summary["t_final"], "steps": summary["steps"],
+                "wall_time_s": time.perf_counter() - wall0, "pvd": summary["pvd"]})
+    if "error" in analysis:
+        out["reason"] = f"analysis {analysis.get('name')}: {analysis['error']}"
+    return out
+
+
+# --------------------------------------------------------------------------- results
+def read_results(path) -> list[dict]:
+    """Rows of a results.csv (all values as text)."""
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+class _Results:
+    """results.csv: a header, then one row per finished run, each flushed to disk at once."""
+
+    def __init__(self, path: Path, rows: list[SweepRow], keep: list[dict]):
+        keys = list(dict.fromkeys(k for r in rows for k in r.keys))
+        measured = list(dict.fromkeys(k for r in rows for k in r.measured))
+        self.columns = ["name", *keys, *measured, *RESULT_COLUMNS]
+        tmp = path.with_name(f".{path.name}.tmp")
+        with open(tmp, "w", newline="") as fh:   # rewritten whole: only finished rows survive
+            writer = csv.DictWriter(fh, self.columns, extrasaction="ignore")
+            writer.writeheader()
+            writer.writerows(keep)
+        os.replace(tmp, path)
+        self.fh = open(path, "a", newline="")
+        self.writer = csv.DictWriter(self.fh, self.columns, extrasaction="ignore")
+
+    def add(self, row: SweepRow, result: dict) -> dict:
+        record = {"name": row.name, **row.keys, **row.measured,
+                  **{k: _cell(result.get(k)) for k in RESULT_COLUMNS}}
+        self.writer.writerow(record)
+        self.fh.flush()
+        os.fsync(self.fh.fileno())
+        return record
+
+    def close(self):
+        self.fh.close()
+
+
+def _cell(value):
+    if value is None:
+        return ""
+    if isinstance(value, float):
+        return repr(value)
+    return value
+
+
+# --------------------------------------------------------------------------- the sweep
+def _client(scheduler: str | None, workers: int | None):
+    """A Dask client: of ``scheduler`` (or DASK_SCHEDULER_ADDRESS), else of a LocalCluster."""
+    import dask
+    from distributed import Client, LocalCluster
+
+    address = scheduler or dask.config.get("scheduler-address", None)
+    if address:
+        return Client(address), None
+    n = workers or os.cpu_count() or 1
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                           dashboard_address=None, env=dict(SINGLE_THREADED))
+    return Client(cluster), cluster
+
+
+def _finished(out: Path, rows: list[SweepRow]) -> list[dict]:
+    """Rows of ``out/results.csv`` that need not run again (same inputs, a final status)."""
+    path = out / "results.csv"
+    if not path.exists():
+        return []
+    by_name = {r.name: r for r in rows}
+    keep = []
+    for rec in read_results(path):
+        row = by_name.get(rec.get("name"))
+        if row is None or rec.get("status") in UNFINISHED:
+            continue
+        given = {k: v for k, v in rec.items() if v and "." in k and not k.startswith(MEASURED)
+                 and k not in RESULT_COLUMNS}
+        if given != row.keys:
+            raise SweepError(f"--resume: run {row.name!r} finished with {given}, but the sweep now "
+                             f"gives {row.keys}; use a new --out for a different sweep")
+        keep.append(rec)
+    return keep
+
+
+def _on_sigterm(signum, frame):
+    raise SweepTerminated()
+
+
+def run_sweep(case_path, rows: list[SweepRow], out, *, overrides: list[str] | None = None,
+              scheduler: str | None = None, workers: int | None = None, resume: bool = False,
+              quiet: bool = False) -> list[dict]:
+    """Run ``rows`` of ``case_path`` into ``out``; return the results.csv records of this call.
+
+    ``overrides`` (``--set`` items) apply to every row, before the row's own keys.
+    """
+    from distributed import as_completed
+    from tqdm import tqdm
+
+    out = Path(out).resolve()
+    case_path = str(Path(case_path).resolve())
+    out.mkdir(parents=True, exist_ok=True)
+    overrides = list(overrides or [])
+    keep = _finished(out, rows) if resume else []
+    if not resume and (out / "results.csv").exists():
+        raise SweepError(f"{out / 'results.csv'} exists: continue it with --resume, or use a new "
+                         f"--out")
+    _write_definition(out, case_path, rows, overrides)
+    done = {rec["name"] for rec in keep}
+    todo = [r for r in rows if r.name not in done]
+    results = _Results(out / "results.csv", rows, keep)
+    records = []
+    client, cluster = _client(scheduler, workers)
+    bar = tqdm(total=len(rows), initial=len(done), disable=quiet, unit="run", desc="runs",
+               file=sys.stderr)
+    futures = {}
+    try:
+        tag = uuid.uuid4().hex[:8]
+        for row in todo:
+            fut = client.submit(run_row, case_path, overrides + row.overrides(),
+                                str(out / "runs" / row.name), key=f"drape-{row.name}-{tag}",
+                                pure=False)
+            futures[fut] = row
+        for fut in as_completed(list(futures)):
+            row = futures[fut]
+            try:
+                result = fut.result()
+            except Exception as exc:  # the worker died under it, or it was cancelled
+                result = {"status": "lost", "reason": _one_line(exc)}
+            result["run_dir"] = f"runs/{row.name}"   # relative: the sweep folder may move
+            records.append(results.add(row, result))
+            bar.set_postfix_str(f"{row.name}: {result['status']}", refresh=False)
+            bar.update(1)
+    finally:
+        bar.close()
+        results.close()
+        for fut in futures:
+            fut.cancel()
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    return records
+
+
+def _write_definition(out: Path, case_path: str, rows: list[SweepRow], overrides: list[str]):
+    data = {"case": case_path, "set": overrides,
+            "rows": [{"name": r.name, "keys": r.keys, "measured": r.measured} for r in rows]}
+    tmp = out / ".sweep.json.tmp"
+    tmp.write_text(json.dumps(data, indent=1))
+    os.replace(tmp, out / "sweep.json")
+
+
+def _read_definition(out: Path):
+    path = out / "sweep.json"
+    if not path.exists():
+        raise SweepError(f"--resume: {path} does not exist; give the case and --table or --grid")
+    data = json.loads(path.read_text())
+    rows = [SweepRow(r["name"], r["keys"], r["measured"]) for r in data["rows"]]
+    return data["case"], rows, data["set"]
+
+
+# --------------------------------------------------------------------------- CLI
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="python -m drape.sweep",
+        description="Run a base case over a run table or a grid of case keys, on Dask; "
+                    "results.csv gets one row per finished run.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="examples:\n"
+               "  python -m drape.sweep cases/cusick_kes.toml --table cases/kes_catalogue.csv "
+               "--out out/catalogue\n"
+               "  python -m drape.sweep cases/cantilever.toml --grid material.bending_scale=0.5,1,2 "
+               "--out out/scale\n"
+               "  python -m drape.sweep --resume --out out/catalogue\n"
+               "  python -m drape.sweep ... --scheduler tcp://10.0.0.5:8786   (an existing "
+               "cluster)\n\n"
+               "exit codes: 0 all runs done (see each run's status), 1 bad input, "
+               "130 interrupted, 143 terminated",
+    )
+    p.add_argument("case", nargs="?", help="base case file (TOML)")
+    rows = p.add_mutually_exclusive_group()
+    rows.add_argument("--table", metavar="CSV", help="run table: name, case keys, measured.*")
+    rows.add_argument("--grid", metavar="KEY=V1,V2", action="append",
+                      help="values of one case key; repeat for a product of several keys")
+    p.add_argument("--out", metavar="DIR", required=True, help="sweep folder")
+    p.add_argument("--set", metavar="KEY=VALUE", action="append", default=[], dest="overrides",
+                   help="override a case key in every run (as in drape.run)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="Dask scheduler of an existing cluster, e.g. tcp://HOST:8786 "
+                        "(default: DASK_SCHEDULER_ADDRESS, else a local cluster)")
+    p.add_argument("--workers", type=int, metavar="N",
+                   help="worker processes of the local cluster (default: one per core)")
+    p.add_argument("--resume", action="store_true",
+                   help="keep the finished rows of DIR/results.csv and run the others")
+    p.add_argument("--quiet", action="store_true", help="no progress bar, no final table")
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command-line entry point; returns the exit code."""
+    args = _parser().parse_args(argv)
+    out = Path(args.out)
+    try:
+        if args.workers is not None and args.workers < 1:
+            raise SweepError(f"--workers = {args.workers}: must be >= 1")
+        if args.case is None:
+            if not args.resume:
+                raise SweepError("the base case file is required (or --resume --out DIR)")
+            case_path, rows, overrides = _read_definition(out)
+        else:
+            if not (args.table or args.grid):
+                raise SweepError("give the runs: --table CSV or --grid KEY=V1,V2,...")
+            rows = read_table(args.table) if args.table else grid_rows(args.grid)
+            case_path, overrides = args.case, args.overrides
+            if not Path(case_path).exists():
+                raise SweepError(f"case file {case_path!r} does not exist")
+        previous = signal.signal(signal.SIGTERM, _on_sigterm)
+        try:
+            records = run_sweep(case_path, rows, out, overrides=overrides,
+                                scheduler=args.scheduler, workers=args.workers,
+                                resume=args.resume, quiet=args.quiet)
+        finally:
+            signal.signal(signal.SIGTERM, previous)
+    except SweepError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    except SweepTerminated:
+        print(f"sweep terminated; finished runs are in {out / 'results.csv'} "
+              f"(continue with --resume)", file=sys.stderr)
+        return 143
+    except KeyboardInterrupt:
+        print(f"sweep interrupted; finished runs are in {out / 'results.csv'} "
+              f"(continue with --resume)", file=sys.stderr)
+        return 130
+    if not args.quiet:
+        for rec in records:
+            dc = f", DC {float(rec['DC_percent']):.1f} %" if rec["DC_percent"] != "" else ""
+            why = f": {rec['reason']}" if rec["reason"] else ""
+            print(f"{rec['name']}: {rec['status']}{dc}{why}")
+        print(f"results in {out / 'results.csv'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
