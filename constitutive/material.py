@@ -134,6 +134,49 @@ class FabricMaterial:
             out[key] = kes_values(loop.kappa, loop.moment)
         return out
 
+    def with_overrides(self, laws: dict | None = None, friction: bool = True,
+                       bending_scale: float = 1.0, **changes) -> "FabricMaterial":
+        """Copy with a case's overrides applied (SI values), validated again.
+
+        Parameters
+        ----------
+        laws : dict, optional
+            ``{"warp": {...}, "weft": {...}}``: law parameters to replace in each direction
+            (``k1``, ``k3``, ``d``, ``m``, and the friction keys ``f1, f2, eps_f, eta``; a law
+            without friction needs all four of those).
+        friction : bool
+            False drops the friction of both laws.
+        bending_scale : float
+            Every moment of both laws multiplied by it (:meth:`BendingLaw.scaled`).
+        **changes
+            Other fields (``areal_mass``, ``thickness``, ``twist_rigidity``, membrane).
+
+        Returns ``self`` when nothing changes.
+
+        Examples
+        --------
+        >>> m = FabricMaterial("demo", 0.2, None, BendingLaw(k1=4e-6), BendingLaw(k1=1e-6))
+        >>> m.with_overrides({"weft": {"k1": 4e-6}}).twist_rigidity
+        4e-06
+        """
+        laws = laws or {}
+        for direction in ("warp", "weft"):
+            over = laws.get(direction) or {}
+            law = getattr(self, direction)
+            if over or not friction:
+                law = _override_law(law, over, friction, direction)
+            if bending_scale != 1.0:
+                law = law.scaled(bending_scale)
+            if law is not getattr(self, direction):
+                changes[direction] = law
+        changes = {k: v for k, v in changes.items() if v is not None}
+        if not changes:
+            return self
+        try:
+            return self.replace(**changes)
+        except ValueError as err:
+            raise MaterialError(f"material after the case's overrides: {err}") from None
+
     def replace(self, **changes) -> "FabricMaterial":
         """Copy with some fields changed (SI values), validated again."""
         if self._twist_default:          # a defaulted twist rigidity follows new laws
@@ -397,3 +440,31 @@ def load_material(name_or_path) -> FabricMaterial:
         raise MaterialError(_format_validation(err, path.name)) from None
     return material_from_spec(spec, path.name)
 
+
+
+_FRICTION_KEYS = ("f1", "f2", "eps_f", "eta")
+
+
+def _override_law(law: BendingLaw, over: dict, friction: bool, direction: str) -> BendingLaw:
+    """``law`` with the overridden parameters (and friction dropped if ``friction`` is False)."""
+    over = dict(over)
+    new_friction = {k: over.pop(k) for k in _FRICTION_KEYS if k in over}
+    fr = law.friction
+    if not friction:
+        fr = None
+    elif new_friction:
+        base = {} if fr is None else {k: getattr(fr, k) for k in _FRICTION_KEYS}
+        base.update(new_friction)
+        missing = [k for k in _FRICTION_KEYS if k not in base]
+        if missing:
+            raise MaterialError(
+                f"material.{direction}: the material has no friction, so an override must give "
+                f"all of f1, f2, eps_f, eta (missing {', '.join(missing)})")
+        try:
+            fr = FrictionParams(**base)
+        except ValueError as err:
+            raise MaterialError(f"material.{direction} after the case's overrides: {err}") from None
+    try:
+        return dataclasses.replace(law, friction=fr, **over)
+    except ValueError as err:
+        raise MaterialError(f"material.{direction} after the case's overrides: {err}") from None

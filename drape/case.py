@@ -82,12 +82,7 @@ __all__ = [
     "check_boundaries",
     "dump_case",
     "describe_schema",
-    "ANALYSES",
 ]
-
-#: Names accepted by ``[case] analysis``; :mod:`drape.run` maps each to its post-processing hook
-#: (``drape.run.register_analysis`` adds names here).
-ANALYSES = ["none", "peirce", "cusick", "kes", "cycle"]
 
 
 class CaseError(ValueError):
@@ -154,6 +149,8 @@ class CaseInfo(_Section):
     @field_validator("analysis")
     @classmethod
     def _known_analysis(cls, value):
+        from drape.analyses import ANALYSES
+
         if value not in ANALYSES:
             raise ValueError(f"must be one of {', '.join(repr(a) for a in ANALYSES)}")
         return value
@@ -541,13 +538,14 @@ class KesDrive(_Section):
                     k_min=-self.k_max if self.k_min is None else self.k_min)
 
     def duration(self) -> float:
-        """Length of the test 0 → K+ → K− → 0 [s].
+        """Length of the test 0 → K+ → K− → 0 [s] (the end of ``kes_profile``'s last phase).
 
         >>> KesDrive().duration()
         21.5
         """
-        k_min = -self.k_max if self.k_min is None else self.k_min
-        return (2 * self.k_max - 2 * k_min) / self.rate + 3 * self.accel_time
+        from constitutive.kes import kes_profile
+
+        return float(kes_profile(t=[0.0], **self.profile_kwargs()).phase_times[-1])
 
 
 class Perturbation(_Section):

@@ -32,7 +32,7 @@ from typing import Any, Mapping
 import meshio
 import numpy as np
 
-__all__ = ["OutputSchedule", "OutputWriter", "split_fields", "read_pvd"]
+__all__ = ["OutputSchedule", "OutputWriter", "split_fields", "flat_fields", "read_pvd"]
 
 _POINT_HINTS = ("displacement", "velocity", "acceleration")
 
@@ -83,6 +83,35 @@ def split_fields(fields: Mapping[str, Any], n_points: int, n_cells: int):
                 f"{n_points} (points) or {n_cells} (cells)"
             )
     return point_data, cell_data
+
+
+_COMPONENTS = {3: ("xx", "yy", "xy"), 2: ("xx", "yy")}
+
+
+def flat_fields(fields: Mapping[str, Any], mesh) -> dict:
+    """Model fields as one flat ``name -> array`` dict of scalars and point vectors.
+
+    The arrays are sorted by :func:`split_fields`; cell data given as ``(n_cells, 3)`` tensors
+    (``curvature``, ``moment``) or ``(n_cells, 2)`` pairs (``friction_moment``) are split into
+    ``_xx``, ``_yy`` (``_xy``) scalars, so that every model writes the same names.
+
+    Examples
+    --------
+    >>> from skfem import MeshTri
+    >>> f = flat_fields({"point_data": {"displacement": np.zeros((4, 3))},
+    ...                  "cell_data": {"moment": np.ones((2, 3))}}, MeshTri())
+    >>> sorted(f)
+    ['displacement', 'moment_xx', 'moment_xy', 'moment_yy']
+    """
+    point_data, cell_data = split_fields(fields, mesh.p.shape[1], mesh.t.shape[1])
+    flat = dict(point_data)
+    for name, arr in cell_data.items():
+        if arr.ndim == 2 and arr.shape[1] in _COMPONENTS:
+            for i, suffix in enumerate(_COMPONENTS[arr.shape[1]]):
+                flat[f"{name}_{suffix}"] = arr[:, i]
+        else:
+            flat[name] = arr
+    return flat
 
 
 class OutputSchedule:

@@ -157,7 +157,7 @@ def shell_peirce_summary(model, u, B_kes=None, clamped="clamped", free="free"):
     grad = np.stack([u[3 * model.basis.nodal_dofs[1 + i][vf][:, None] + np.arange(3)]
                      for i in range(2)], axis=1)           # (nv, 2, 3): u_,x and u_,y
     slope = np.append(d, 0.0) + np.einsum("vak,a->k", grad, d) / len(vf)
-    W = model.rho_A * model.g * model.load_scale * model.gravity(model._t_last)
+    W = model.rho_A * model.g * model.load_scale * model.gravity(model.load_time)
     if B_kes is None:
         along_warp = abs(d[0]) >= abs(d[1])
         kes = getattr(model.material, "kes", None) or {}

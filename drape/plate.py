@@ -501,6 +501,17 @@ class KirchhoffPlate:
         e = sum(np.sum(_elastic_energy(self._laws[d], kappa[d]) * self._dx) for d in ("xx", "yy"))
         return float(e + 0.5 * u @ (self.K_twist @ u))
 
+    @property
+    def load_time(self) -> float:
+        """Time [s] of the last :meth:`residual` call; time-dependent loads are read at it."""
+        return self._t_last
+
+    def nodal_displacement(self, u) -> np.ndarray:
+        """Displacement 3-vectors ``(0, 0, w)`` at the mesh vertices, shape (n_points, 3)."""
+        disp = np.zeros((self.mesh.p.shape[1], 3))
+        disp[:, 2] = np.asarray(u)[self.vertex_dofs]
+        return disp
+
     def energies(self, u, v, t: float | None = None) -> dict:
         """Kinetic, elastic, load potential and cumulative dissipated works (J).
 
@@ -539,11 +550,7 @@ class KirchhoffPlate:
 
     def fields(self, u, v, a) -> dict:
         """Output fields: point data (displacement, velocity as 3-vectors) and cell averages."""
-        nv = self.mesh.p.shape[1]
-        disp = np.zeros((nv, 3))
-        vel = np.zeros((nv, 3))
-        disp[:, 2] = np.asarray(u)[self.vertex_dofs]
-        vel[:, 2] = np.asarray(v)[self.vertex_dofs]
+        disp, vel = self.nodal_displacement(u), self.nodal_displacement(v)
         area = self._dx.sum(axis=1)
         cells = {k: (f * self._dx).sum(axis=1) / area for k, f in self.quadrature_fields(u, v, a).items()}
         return {"point_data": {"displacement": disp, "velocity": vel}, "cell_data": cells}

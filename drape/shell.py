@@ -641,18 +641,25 @@ class KirchhoffLoveShell:
         out["membrane_strain_xy"] = 0.5 * eps[..., 2]
         return out
 
-    def energies(self, u, v):
+    @property
+    def load_time(self):
+        """Time [s] of the last :meth:`residual` call; time-dependent loads are read at it."""
+        return self._t_last
+
+    def energies(self, u, v, t=None):
         """Energies [J]: kinetic, strain (membrane + elastic bending), external potential
         (dead loads: gravity and edge force; not the follower end moment), friction and
-        damping work (Rayleigh and the law's d κ̇) dissipated so far, and their total."""
+        damping work (Rayleigh and the law's d κ̇) dissipated so far, and their total.
+
+        ``t`` evaluates the dead loads' potential (default: :attr:`load_time`)."""
         eps, kap = self.qp_state(u)
         membrane = 0.5 * np.einsum("eqv,vw,eqw,eq->", eps, self.C_m, self._membrane_strain(eps), self.w)
         bend = sum(float(np.sum(_elastic_energy(law, kap[..., i]) * self.w))
                    for i, law in enumerate((self.warp_law, self.weft_law)))
         bend += float(np.sum(0.25 * self.twist * kap[..., 2] ** 2 * self.w))
         kinetic = 0.5 * float(v @ (self._M @ v))
-        # potential of the dead loads (gravity, surface and edge force) at the last residual time
-        t = self._t_last
+        # potential of the dead loads (gravity, surface and edge force)
+        t = self._t_last if t is None else t
         f_dead = self._dead_surface_force(t)
         if self.edge_load is not None:
             f_dead = f_dead + self._edge_force(t)

@@ -1,0 +1,205 @@
+"""From a validated case to the parts of a run: mesh → material → structural model.
+
+:func:`build` returns the :class:`Parts`; :func:`initial_fields` the start of the integration.
+What the case names but cannot be built (a missing mesh file, a material that breaks a rule
+after the case's overrides) raises :class:`RunInputError` naming the key.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from constitutive.units import G0
+
+from drape.case import Case, check_boundaries
+
+__all__ = ["RunInputError", "Parts", "build", "build_mesh", "build_material", "build_model",
+           "load_amplitudes", "kes_curvature", "fold_perturbation", "initial_fields"]
+
+log = logging.getLogger("drape.build")
+
+
+class RunInputError(ValueError):
+    """Something the case names cannot be built (material, mesh file, boundary, option)."""
+
+
+@dataclass
+class Parts:
+    """The built pieces of a case."""
+
+    mesh: Any
+    material: Any
+    model: Any
+
+
+def build(case: Case) -> Parts:
+    """Mesh → material → model for ``case`` (raises CaseError / ValueError on bad input)."""
+    mesh = build_mesh(case)
+    log.info("mesh: %d vertices, %d triangles, boundaries %s", mesh.p.shape[1],
+             mesh.t.shape[1], sorted(mesh.boundaries or {}))
+    material = build_material(case)
+    model = build_model(case, mesh, material)
+    log.info("model: %s with %d dofs (%d fixed)", type(model).__name__, model.ndofs,
+             len(model.fixed_dofs))
+    return Parts(mesh, material, model)
+
+
+def build_mesh(case: Case):
+    """The reference mesh described by ``[mesh]`` (boundaries named by :mod:`meshes`)."""
+    try:
+        mesh = _make_mesh(case.mesh)
+    except RunInputError:
+        raise
+    except ValueError as err:
+        raise RunInputError(f"mesh: {err}") from None
+    check_boundaries(case, mesh)
+    return mesh
+
+
+def _make_mesh(spec):
+    import meshes
+
+    if spec.kind == "strip":
+        return meshes.strip(spec.length, spec.width, spec.nx, spec.ny)
+    if spec.kind == "rectangle":
+        return meshes.rectangle(spec.length, spec.width, spec.nx, spec.ny)
+    if spec.kind == "cusick":
+        return meshes.cusick_annulus(spec.specimen_diameter, spec.disc_diameter,
+                                     n_radial=spec.n_radial,
+                                     n_circumferential=spec.n_circumferential,
+                                     target_size=spec.target_size, refine=spec.refine,
+                                     radial_grading=spec.radial_grading)
+    try:
+        return meshes.load_mesh(spec.path, scale=spec.scale)
+    except FileNotFoundError:
+        raise RunInputError(f"mesh.path = {spec.path!r}: file not found") from None
+    except ValueError as err:
+        raise RunInputError(f"mesh.path = {spec.path!r}: {err}") from None
+
+
+def build_material(case: Case):
+    """The fabric of ``[material]`` with the case's overrides applied (SI)."""
+    from constitutive.material import (KesSpec, MaterialError, MaterialSpec, load_material,
+                                       material_from_spec)
+
+    spec = case.material
+    if spec.kes is not None:
+        # the same builder (and KES -> SI conversion) as a material file's [kes] table
+        k = spec.kes.model_dump()
+        weight, thickness = k.pop("weight"), k.pop("thickness")
+        material = material_from_spec(MaterialSpec(
+            name=case.case.name, description=case.case.description, source="case file [material.kes]",
+            weight=weight, thickness=thickness, kes=KesSpec(**k)), where="material.kes")
+    else:
+        material = load_material(spec.name if spec.name is not None else spec.path)
+    membrane = {} if case.model.membrane is None else case.model.membrane.model_dump(exclude_none=True)
+    try:
+        return material.with_overrides(
+            {d: spec.law_overrides(d) for d in ("warp", "weft")}, friction=spec.friction,
+            bending_scale=spec.bending_scale, areal_mass=spec.areal_mass,
+            thickness=spec.thickness, twist_rigidity=case.model.twist_rigidity, **membrane)
+    except MaterialError as err:
+        raise RunInputError(str(err)) from None
+
+
+def load_amplitudes(case: Case) -> dict[str, Callable[[float], float]]:
+    """Time functions of the loads: ``gravity`` (factor), ``pressure`` [Pa], ``end_moment`` [N]."""
+    load = case.load
+    out: dict[str, Callable[[float], float]] = {}
+    if load.gravity is not None:
+        g = load.gravity
+        out["gravity"] = lambda t, g=g: g.factor * g.amplitude(t)
+    if load.pressure is not None:
+        p = load.pressure
+        out["pressure"] = lambda t, p=p: p.value * p.amplitude(t)
+    if load.end_moment is not None:
+        m = load.end_moment
+        out["end_moment"] = lambda t, m=m: m.value * m.amplitude(t)
+    return out
+
+
+def kes_curvature(case: Case) -> Callable[[float], tuple[float, float, float]]:
+    """``t -> (κ, κ̇, κ̈)`` of the KES-FB profile of ``[load.kes]`` (constitutive.kes.kes_profile).
+
+    The exact rates let the plate lift the imposed motion exactly, so the law's d κ̇ and m κ̈
+    see the profile's rates, not Newmark's estimates of them. After the profile's last phase
+    the strip is held at its final curvature, at rest.
+    """
+    from constitutive.kes import kes_profile
+
+    kwargs = case.load.kes.profile_kwargs()
+    t_end = float(kes_profile(t=[0.0], **kwargs).phase_times[-1])
+
+    def kappa(t: float) -> tuple[float, float, float]:
+        if t >= t_end:
+            p = kes_profile(t=[t_end], **kwargs)
+            return float(p.kappa[0]), 0.0, 0.0
+        p = kes_profile(t=[max(t, 0.0)], **kwargs)
+        return float(p.kappa[0]), float(p.kappa_dot[0]), float(p.kappa_ddot[0])
+
+    return kappa
+
+
+def build_model(case: Case, mesh, material):
+    """The structural model for ``[model] kinematics`` with supports, loads and damping."""
+    spec = case.model
+    loads = load_amplitudes(case)
+    rayleigh = (spec.damping.alpha, spec.damping.beta)
+    if spec.kinematics == "small":
+        from drape.plate import KirchhoffPlate, pure_bending_rotations
+
+        rotations = None
+        if case.load.kes is not None:
+            rotations = pure_bending_rotations(kes_curvature(case), case.mesh.length,
+                                               ends=tuple(case.load.kes.ends))
+        return KirchhoffPlate(
+            mesh, material, element=case.mesh.element, supports=dict(spec.supports),
+            rotations=rotations, gravity=loads.get("gravity", 0.0),
+            pressure=loads.get("pressure", 0.0), rayleigh=rayleigh,
+            translational_inertia=spec.translational_inertia,
+            friction_tangent=spec.friction_tangent,
+        )
+    from drape.shell import KirchhoffLoveShell
+
+    # what the shell cannot do is rejected by the case schema (drape.case.Case._consistent)
+    clamped = tuple(b for b, kind in spec.supports.items() if kind == "clamped")
+    kwargs = {}
+    fold = fold_perturbation(case)
+    if fold is not None and fold.target == "force":
+        weight = float(material.areal_mass) * G0
+        kwargs.update(surface_load=(lambda x: fold.traction(x, weight), fold.time_profile))
+    if case.load.end_moment is not None:
+        kwargs.update(end_moment=loads["end_moment"], load_boundary=case.load.end_moment.boundary)
+    return KirchhoffLoveShell(mesh, material, clamped=clamped,
+                              gravity=loads.get("gravity", 0.0), rayleigh=rayleigh,
+                              membrane_strain_degree=spec.membrane_strain_degree,
+                              membrane_stabilization=spec.membrane_stabilization,
+                              friction_tangent=spec.friction_tangent, **kwargs)
+
+
+def fold_perturbation(case: Case):
+    """The ``[load.perturbation]`` field (``drape.perturbation.FoldPerturbation``) or None."""
+    p = case.load.perturbation
+    if p is None or p.kind == "none":
+        return None
+    from drape.perturbation import FoldPerturbation
+
+    return FoldPerturbation(disc_radius=0.5 * case.mesh.disc_diameter,
+                            specimen_radius=0.5 * case.mesh.specimen_diameter, **p.model_dump())
+
+
+def initial_fields(case: Case, model):
+    """Initial (u0, v0): zero, or the fold perturbation of target displacement / velocity.
+
+    The perturbation (``drape.perturbation.FoldPerturbation``) is interpolated on the shell's
+    basis (the schema allows it with ``model.kinematics = "large"`` only); target "force" is a
+    load (:func:`build_model`), not a start.
+    """
+    fold = fold_perturbation(case)
+    if fold is None or fold.target == "force":
+        return None, None
+    from drape.perturbation import perturbation_dofs
+
+    x0 = perturbation_dofs(model.basis, fold)
+    return (x0, None) if fold.target == "displacement" else (None, x0)
