@@ -287,7 +287,7 @@ def _client(scheduler: str | None, workers: int | None):
         return Client(address), None
     n = workers or os.cpu_count() or 1
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           dashboard_address=None, env=dict(SINGLE_THREADED))
+                           dashboard_address=":0", env=dict(SINGLE_THREADED))
     return Client(cluster), cluster
 
 
@@ -466,6 +466,11 @@ def main(argv: list[str] | None = None) -> int:
             why = f": {rec['reason']}" if rec["reason"] else ""
             print(f"{rec['name']}: {rec['status']}{dc}{why}")
         print(f"results in {out / 'results.csv'}")
+    from drape.report import write_report
+
+    report = write_report(out)
+    if not args.quiet:
+        print(f"report in {report}")
     return 0
 
 
