@@ -201,14 +201,15 @@ def run_row(case_path: str, overrides: list[str], run_dir: str) -> dict:
     """
     for key, value in SINGLE_THREADED.items():
         os.environ.setdefault(key, value)
-    from drape import run as runner
+    from drape.build import build
     from drape.case import load_case
+    from drape.run import run_case
 
     wall0 = time.perf_counter()
     out = {"run_dir": run_dir, "worker": _worker_address()}
     try:
         case = load_case(case_path, overrides)
-        parts = runner.build(case)
+        parts = build(case)
         out.update(_material_columns(parts.material))
     except (CaseError, ValueError) as exc:
         return {**out, "status": "invalid", "reason": _one_line(exc)}
@@ -216,7 +217,7 @@ def run_row(case_path: str, overrides: list[str], run_dir: str) -> dict:
         return {**out, "status": "error", "reason": _one_line(exc)}
     source = f"from {case_path}" + "".join(f" --set {o}" for o in overrides)
     try:
-        summary = runner.run_case(case, Path(run_dir), quiet=True, parts=parts, source=source)
+        summary = run_case(case, Path(run_dir), quiet=True, parts=parts, source=source)
     except Exception as exc:
         return {**out, "status": "error", "reason": _one_line(exc),
                 "wall_time_s": time.perf_counter() - wall0}
