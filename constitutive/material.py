@@ -51,6 +51,7 @@ from constitutive.friction import FrictionParams, ParameterError, friction_path
 from constitutive.kes import KesValues, kes_profile, kes_values, run_kes
 from constitutive.law import BendingLaw
 from constitutive.units import to_si
+from constitutive.validation import format_errors
 
 __all__ = ["MaterialError", "FabricMaterial", "load_material", "material_from_kes", "MATERIALS_DIR",
            "DEFAULT_MEMBRANE", "available_materials"]
@@ -307,13 +308,31 @@ class LawSpec(_Strict):
 class KesSpec(_Strict):
     """A ``[kes]`` table of summary values (KES units)."""
 
-    B_warp: float = Field(gt=0, description="gf·cm²/cm")
-    B_weft: float = Field(gt=0, description="gf·cm²/cm")
-    HB2_warp: float = Field(ge=0, description="gf·cm/cm")
-    HB2_weft: float = Field(ge=0, description="gf·cm/cm")
-    eps_f: float = Field(0.2, gt=0, description="cm⁻¹, friction length for material_from_kes")
-    eta: float = Field(0.5, gt=0, lt=1, description="a1 = eps_f·eta")
-    accel_time: float | None = Field(None, gt=0, description="s")
+    B_warp: float = Field(gt=0, description="Bending rigidity B, warp direction [gf·cm²/cm].")
+    B_weft: float = Field(gt=0, description="Bending rigidity B, weft direction [gf·cm²/cm].")
+    HB2_warp: float = Field(ge=0, description="Hysteresis width 2HB at |κ| = 1 cm⁻¹, warp [gf·cm/cm].")
+    HB2_weft: float = Field(ge=0, description="Hysteresis width 2HB, weft [gf·cm/cm].")
+    eps_f: float = Field(0.2, gt=0, description="Friction length ε_f [cm⁻¹] of the calibrated "
+                                                 "friction (a1 = ε_f η).")
+    eta: float = Field(0.5, gt=0, lt=1, description="Ratio η of the friction lengths.")
+    accel_time: float | None = Field(None, gt=0, description="Acceleration time of the simulated "
+                                                            "KES-FB test [s] (default: the tester's).")
+
+
+class KesFabricSpec(KesSpec):
+    """A fabric known only from KES-FB summary values and its weight, in KES units as on the
+    tester's print-out (:func:`material_from_kes`: k3 = d = 0, first-order friction calibrated
+    so that the simulated KES-FB loop gives exactly B and 2HB)."""
+
+    weight: float = Field(gt=0, description="Fabric weight W [gf/cm²] (areal mass = 10 × W kg/m²).")
+    thickness: float | None = Field(None, gt=0, description="Thickness [cm].")
+
+    def material_spec(self, name: str, description: str = "", source: str = "") -> "MaterialSpec":
+        """The same fabric as a material file's tables (:class:`MaterialSpec`)."""
+        k = self.model_dump()
+        weight, thickness = k.pop("weight"), k.pop("thickness")
+        return MaterialSpec(name=name, description=description, source=source, weight=weight,
+                            thickness=thickness, kes=KesSpec(**k))
 
 
 class MembraneSpec(_Strict):
@@ -346,19 +365,6 @@ class MaterialSpec(_Strict):
         if self.warp is None and self.kes is None:
             raise ValueError("needs [warp] and [weft] law tables or a [kes] table of summary values")
         return self
-
-
-def _format_validation(err: ValidationError, where: str) -> str:
-    lines = []
-    for e in err.errors():
-        key = ".".join(str(x) for x in e["loc"]) or "(file)"
-        msg = e["msg"].removeprefix("Value error, ")
-        if e["type"] == "extra_forbidden":
-            msg = "unknown key (not part of the material schema)"
-        shown = f" = {e['input']!r}" if e["type"] not in ("missing", "extra_forbidden") and \
-            not isinstance(e["input"], dict) else ""
-        lines.append(f"{where}: {key}{shown}: {msg}")
-    return "\n".join(lines)
 
 
 def available_materials() -> list[str]:
@@ -437,7 +443,8 @@ def load_material(name_or_path) -> FabricMaterial:
     try:
         spec = MaterialSpec.model_validate(data)
     except ValidationError as err:
-        raise MaterialError(_format_validation(err, path.name)) from None
+        raise MaterialError("\n".join(f"{path.name}: {line}" for line in
+                                      format_errors(err, MaterialSpec).splitlines())) from None
     return material_from_spec(spec, path.name)
 
 

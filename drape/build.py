@@ -13,9 +13,10 @@ from typing import Any, Callable
 from constitutive.units import G0
 
 from drape.case import Case, check_boundaries
+from drape.loads import kes_curvature, load_amplitudes
 
 __all__ = ["RunInputError", "Parts", "build", "build_mesh", "build_material", "build_model",
-           "load_amplitudes", "kes_curvature", "fold_perturbation", "initial_fields"]
+           "fold_perturbation", "initial_fields"]
 
 log = logging.getLogger("drape.build")
 
@@ -80,17 +81,14 @@ def _make_mesh(spec):
 
 def build_material(case: Case):
     """The fabric of ``[material]`` with the case's overrides applied (SI)."""
-    from constitutive.material import (KesSpec, MaterialError, MaterialSpec, load_material,
-                                       material_from_spec)
+    from constitutive.material import MaterialError, load_material, material_from_spec
 
     spec = case.material
     if spec.kes is not None:
         # the same builder (and KES -> SI conversion) as a material file's [kes] table
-        k = spec.kes.model_dump()
-        weight, thickness = k.pop("weight"), k.pop("thickness")
-        material = material_from_spec(MaterialSpec(
-            name=case.case.name, description=case.case.description, source="case file [material.kes]",
-            weight=weight, thickness=thickness, kes=KesSpec(**k)), where="material.kes")
+        material = material_from_spec(
+            spec.kes.material_spec(case.case.name, case.case.description, "case file [material.kes]"),
+            where="material.kes")
     else:
         material = load_material(spec.name if spec.name is not None else spec.path)
     membrane = {} if case.model.membrane is None else case.model.membrane.model_dump(exclude_none=True)
@@ -101,44 +99,6 @@ def build_material(case: Case):
             thickness=spec.thickness, twist_rigidity=case.model.twist_rigidity, **membrane)
     except MaterialError as err:
         raise RunInputError(str(err)) from None
-
-
-def load_amplitudes(case: Case) -> dict[str, Callable[[float], float]]:
-    """Time functions of the loads: ``gravity`` (factor), ``pressure`` [Pa], ``end_moment`` [N]."""
-    load = case.load
-    out: dict[str, Callable[[float], float]] = {}
-    if load.gravity is not None:
-        g = load.gravity
-        out["gravity"] = lambda t, g=g: g.factor * g.amplitude(t)
-    if load.pressure is not None:
-        p = load.pressure
-        out["pressure"] = lambda t, p=p: p.value * p.amplitude(t)
-    if load.end_moment is not None:
-        m = load.end_moment
-        out["end_moment"] = lambda t, m=m: m.value * m.amplitude(t)
-    return out
-
-
-def kes_curvature(case: Case) -> Callable[[float], tuple[float, float, float]]:
-    """``t -> (κ, κ̇, κ̈)`` of the KES-FB profile of ``[load.kes]`` (constitutive.kes.kes_profile).
-
-    The exact rates let the plate lift the imposed motion exactly, so the law's d κ̇ and m κ̈
-    see the profile's rates, not Newmark's estimates of them. After the profile's last phase
-    the strip is held at its final curvature, at rest.
-    """
-    from constitutive.kes import kes_profile
-
-    kwargs = case.load.kes.profile_kwargs()
-    t_end = float(kes_profile(t=[0.0], **kwargs).phase_times[-1])
-
-    def kappa(t: float) -> tuple[float, float, float]:
-        if t >= t_end:
-            p = kes_profile(t=[t_end], **kwargs)
-            return float(p.kappa[0]), 0.0, 0.0
-        p = kes_profile(t=[max(t, 0.0)], **kwargs)
-        return float(p.kappa[0]), float(p.kappa_dot[0]), float(p.kappa_ddot[0])
-
-    return kappa
 
 
 def build_model(case: Case, mesh, material):

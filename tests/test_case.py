@@ -171,12 +171,13 @@ def test_shipped_case_files_validate(path):
 
 def test_schema_help_documents_every_key():
     text = describe_schema()
+    from constitutive.validation import model_class
     from drape import case as c
 
     for section in (c.SolverSpec, c.ModelSpec, c.StopSpec, c.OutputSpec, c.Gravity, c.KesDrive):
         for name, field in section.model_fields.items():
             assert field.description, f"{section.__name__}.{name} has no docstring"
-            if c._model_class(field.annotation) is not None:
+            if model_class(field.annotation) is not None:
                 assert f"[{section.__name__.lower().replace('spec', '')}.{name}]" in text, name
             else:
                 assert f"  {name} : " in text, name

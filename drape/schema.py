@@ -1,0 +1,413 @@
+"""The tables of a case file other than ``[load]``: their keys, units, defaults and rules.
+
+Every table rejects unknown keys. Numbers are SI (m, kg, s, N); any dimensional number may
+instead be written as a string with units (``length = "5 cm"``), converted with pint. A key's
+docstring is its documentation (``python -m drape.run --help-case``). The ``[load]`` tables
+are in :mod:`drape.loads`; the whole case and its cross-table rules in :mod:`drape.case`.
+"""
+from __future__ import annotations
+
+from typing import Annotated, Literal, Union
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator, model_validator
+
+from constitutive.material import KesFabricSpec
+
+# --------------------------------------------------------------------------- quantities
+def _ureg():
+    from constitutive.units import ureg  # one registry for the project (knows gf, gmf)
+
+    return ureg
+
+
+def _quantity(unit: str):
+    """Before-validator: accept a number (SI) or a string with units convertible to ``unit``."""
+
+    def convert(value):
+        if isinstance(value, str):
+            import pint
+
+            try:
+                q = _ureg().Quantity(value)
+                return float(q.to(unit).magnitude)
+            except (pint.errors.PintError, ValueError, AttributeError, TypeError) as exc:
+                raise ValueError(
+                    f"cannot read {value!r} as a quantity in {unit or 'dimensionless'} units ({exc})"
+                ) from None
+        return value
+
+    return BeforeValidator(convert)
+
+
+def Q(unit: str, **field_kwargs):
+    """A float field in SI ``unit`` that also accepts unit strings (``"5 cm"``)."""
+    return Annotated[float, _quantity(unit), Field(**field_kwargs)]
+
+
+_CONFIG = ConfigDict(extra="forbid", strict=True, use_attribute_docstrings=True)
+
+
+class _Section(BaseModel):
+    model_config = _CONFIG
+
+
+def _rule(message: str):
+    """Cross-key rule error; ``@.`` in ``message`` becomes the dotted path of the table."""
+    return ValueError(message)
+
+
+# --------------------------------------------------------------------------- [case]
+class CaseInfo(_Section):
+    """[case]: what this run is."""
+
+    name: str = Field(pattern=r"^[A-Za-z0-9_.-]+$")
+    """File stem of the outputs (``<name>_NNNN.vtu``, ``<name>.pvd``); letters, digits, ``_.-``."""
+    description: str = ""
+    """Free text, copied into summary.json."""
+    analysis: str = "none"
+    """Post-processing after the run: ``peirce`` (cantilever bending length), ``cusick``
+    (drape coefficient and folds), ``kes`` (B and 2HB of the simulated moment-curvature loop),
+    ``cycle`` (probe displacements at every point of load.gravity.history: the residual
+    deformation friction leaves after unloading), ``none``."""
+
+    @field_validator("analysis")
+    @classmethod
+    def _known_analysis(cls, value):  # the registry is read at validation: scripts may add to it
+        from drape.analyses import ANALYSES
+
+        if value not in ANALYSES:
+            raise ValueError(f"must be one of {', '.join(repr(a) for a in ANALYSES)}")
+        return value
+
+
+# --------------------------------------------------------------------------- [mesh]
+class _MeshBase(_Section):
+    element: Literal["morley", "argyris"] = "argyris"
+    """Finite element: ``morley`` (quadratic, small deflection only) or ``argyris`` (quintic)."""
+
+
+class StripMesh(_MeshBase):
+    """[mesh] kind = "strip": [0, length] x [0, width]; boundaries ``clamped`` (= ``left``, x = 0),
+    ``free_end`` (= ``right``), ``bottom``, ``top``."""
+
+    kind: Literal["strip"]
+    length: Q("m", gt=0)
+    """Strip length along x (warp) [m]."""
+    width: Q("m", gt=0)
+    """Strip width along y [m]."""
+    nx: int = Field(ge=1)
+    """Divisions along the length."""
+    ny: int = Field(1, ge=1)
+    """Divisions across the width."""
+
+
+class RectangleMesh(_MeshBase):
+    """[mesh] kind = "rectangle": [0, length] x [0, width]; boundaries ``left``, ``right``,
+    ``bottom``, ``top``."""
+
+    kind: Literal["rectangle"]
+    length: Q("m", gt=0)
+    """Side along x (warp) [m]."""
+    width: Q("m", gt=0)
+    """Side along y (weft) [m]."""
+    nx: int = Field(ge=1)
+    """Divisions along x."""
+    ny: int = Field(ge=1)
+    """Divisions along y."""
+
+
+class CusickMesh(_MeshBase):
+    """[mesh] kind = "cusick": the overhanging annulus, centred at 0; boundaries ``disc``, ``hem``."""
+
+    kind: Literal["cusick"]
+    specimen_diameter: Q("m", gt=0) = 0.30
+    """Specimen diameter [m] (standard: 0.24, 0.30 or 0.36)."""
+    disc_diameter: Q("m", gt=0) = 0.18
+    """Support disc diameter [m]."""
+    target_size: Q("m", gt=0) = 0.01
+    """Nominal element size [m]; sets the divisions not given explicitly."""
+    n_radial: int | None = Field(None, ge=1)
+    """Element rings across the overhang (default: overhang / target_size)."""
+    n_circumferential: int | None = Field(None, ge=8)
+    """Divisions around the circumference, even (default: mid circumference / target_size)."""
+    refine: int = Field(0, ge=0)
+    """Uniform refinements (divisions × 2**refine) for convergence studies."""
+    radial_grading: float = Field(1.0, ge=1.0)
+    """Outermost over innermost ring width (1: uniform); finer rings at the clamped disc edge,
+    where a limp fabric turns down within about one bending length."""
+
+    @model_validator(mode="after")
+    def _disc_inside(self):
+        if self.disc_diameter >= self.specimen_diameter:
+            raise _rule(
+                f"@.disc_diameter = {self.disc_diameter} must be smaller than "
+                f"@.specimen_diameter = {self.specimen_diameter}"
+            )
+        return self
+
+
+class FileMesh(_MeshBase):
+    """[mesh] kind = "file": an external triangle mesh read with meshio (gmsh .msh, .vtu, ...);
+    boundaries are the file's named line groups."""
+
+    kind: Literal["file"]
+    path: str
+    """Mesh file; relative paths are taken from the case file's directory."""
+    scale: float = Field(1.0, gt=0)
+    """Factor taking the file's coordinates to metres (0.01 for a file in cm)."""
+
+
+MeshSpec = Annotated[
+    Union[StripMesh, RectangleMesh, CusickMesh, FileMesh], Field(discriminator="kind")
+]
+
+
+# --------------------------------------------------------------------------- [material]
+class LawOverride(_Section):
+    """Bending-law parameters replacing those of the material (SI; all optional)."""
+
+    k1: Q("N*m", gt=0) | None = None
+    """Linear bending rigidity [N·m]."""
+    k3: Q("N*m**3", ge=0) | None = None
+    """Cubic coefficient [N·m³]."""
+    d: Q("N*m*s", ge=0) | None = None
+    """Viscous coefficient [N·m·s]."""
+    m: Q("N*m*s**2", ge=0) | None = None
+    """Curvature-inertia coefficient [N·m·s²]."""
+    f1: Q("N", ge=0) | None = None
+    """Friction moment of the first (fast) state [N·m/m = N]; must exceed f2."""
+    f2: Q("N", ge=0) | None = None
+    """Friction moment of the second state [N]."""
+    eps_f: Q("1/m", gt=0) | None = None
+    """Friction curvature length ε_f [1/m]."""
+    eta: float | None = Field(None, gt=0, lt=1)
+    """Ratio of the two friction lengths, 0 < η < 1."""
+
+    @model_validator(mode="after")
+    def _dissipative(self):
+        if self.f1 is not None and self.f2 is not None and not self.f1 > self.f2:
+            raise _rule(f"@.f1 = {self.f1} must exceed @.f2 = {self.f2} (dissipativity, 3.18)")
+        return self
+
+
+class CaseMaterial(LawOverride):
+    """[material]: the fabric. Give exactly one of ``name``, ``path`` or a ``[material.kes]`` table.
+
+    Law keys at this level (k1, k3, d, m, f1, f2, eps_f, eta) override both directions;
+    ``[material.warp]`` / ``[material.weft]`` override one direction and win over them.
+    """
+
+    name: str | None = None
+    """Material from the library in cases/materials (e.g. ``fabric1``)."""
+    path: str | None = None
+    """Material file; relative paths are taken from the case file's directory."""
+    kes: KesFabricSpec | None = None
+    """Inline KES summary values (see [material.kes])."""
+    areal_mass: Q("kg/m**2", gt=0) | None = None
+    """Override the areal mass ρ_A [kg/m²]."""
+    thickness: Q("m", gt=0) | None = None
+    """Override the thickness [m]."""
+    friction: bool = True
+    """``false`` drops the hysteretic friction moment (for friction-free comparisons)."""
+    bending_scale: float = Field(1.0, gt=0)
+    """Multiplies every bending moment of both laws (k1, k3, d, m, f1, f2; not ε_f, η), after the
+    overrides: the same fabric made stiffer or limper (bending length × bending_scale^(1/3))."""
+    warp: LawOverride = LawOverride()
+    """Overrides of the warp law (acts on κ_xx)."""
+    weft: LawOverride = LawOverride()
+    """Overrides of the weft law (acts on κ_yy)."""
+
+    @model_validator(mode="after")
+    def _one_source(self):
+        given = [k for k in ("name", "path", "kes") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise _rule(
+                "@: give exactly one of name, path or [material.kes]"
+                + (f" (got {', '.join(given)})" if given else "")
+            )
+        friction_keys = ("f1", "f2", "eps_f", "eta")
+        if not self.friction:
+            for direction in ("warp", "weft"):
+                given = [k for k in friction_keys if k in self.law_overrides(direction)]
+                if given:
+                    raise _rule(f"@.friction = false contradicts the friction override {given[0]}")
+        for direction in ("warp", "weft"):
+            law = self.law_overrides(direction)
+            f1, f2 = law.get("f1"), law.get("f2")
+            if f1 is not None and f2 is not None and not f1 > f2:
+                k1 = f"@.{direction}.f1" if getattr(self, direction).f1 is not None else "@.f1"
+                k2 = f"@.{direction}.f2" if getattr(self, direction).f2 is not None else "@.f2"
+                raise _rule(f"{k1} = {f1} must exceed {k2} = {f2} (dissipativity, 3.18)")
+        return self
+
+    def law_overrides(self, direction: str) -> dict:
+        """Effective overrides for ``direction`` ('warp' or 'weft'): shared keys, then per-direction."""
+        shared = {k: getattr(self, k) for k in LawOverride.model_fields}
+        own = getattr(self, direction).model_dump(exclude_none=True)
+        merged = {k: v for k, v in shared.items() if v is not None}
+        merged.update(own)
+        return merged
+
+
+# --------------------------------------------------------------------------- [model]
+class Damping(_Section):
+    """[model.damping]: Rayleigh damping C = alpha M + beta K0 (added to the law's own d)."""
+
+    alpha: Q("1/s", ge=0) = 0.0
+    """Mass-proportional coefficient [1/s]."""
+    beta: Q("s", ge=0) = 0.0
+    """Stiffness-proportional coefficient [s] (K0: tangent stiffness at rest)."""
+
+
+class Membrane(_Section):
+    """[model.membrane]: orthotropic membrane stiffness of the large-rotation model [N/m];
+    keys not given keep the material's values (default E11 = E22 = 1e4 N/m, ν12 = 0, G12 = 50 N/m)."""
+
+    E11: Q("N/m", gt=0) | None = None
+    """Tensile stiffness along the warp [N/m]."""
+    E22: Q("N/m", gt=0) | None = None
+    """Tensile stiffness along the weft [N/m]."""
+    nu12: float | None = Field(None, ge=0, lt=1)
+    """In-plane Poisson ratio."""
+    G12: Q("N/m", gt=0) | None = None
+    """In-plane shear stiffness [N/m] (woven fabric: soft in shear)."""
+
+
+class ModelSpec(_Section):
+    """[model]: the structural model."""
+
+    kinematics: Literal["small", "large"] = "small"
+    """``small``: Kirchhoff plate, scalar deflection w (thesis ch. 5). ``large``: geometrically
+    exact Kirchhoff–Love plate with membrane coupling (needs mesh.element = "argyris")."""
+    supports: dict[str, Literal["clamped", "simply_supported", "free"]] = {}
+    """Boundary conditions per named mesh boundary, e.g. ``supports = { clamped = "clamped" }``:
+    ``clamped`` (w and slope fixed), ``simply_supported`` (w fixed; small kinematics only),
+    ``free``. Unlisted boundaries are free."""
+    damping: Damping = Damping()
+    """Rayleigh damping (see [model.damping])."""
+    twist_rigidity: Q("N*m", gt=0) | None = None
+    """Linear twist rigidity D_t [N·m]; default sqrt(k1_warp k1_weft)."""
+    membrane: Membrane | None = None
+    """Membrane stiffness (large kinematics only); default: the material's, else
+    E11 = E22 = 1e4 N/m, G12 = 50 N/m."""
+    translational_inertia: bool = True
+    """``false`` drops the areal mass from the inertia (pure bending, as in the KES-FB
+    tester; small kinematics only)."""
+    membrane_strain_degree: int | None = Field(None, ge=0, le=4)
+    """Large kinematics: project the membrane strain per triangle onto polynomials of this
+    degree (assumed strain against membrane locking of folds on coarse meshes); absent: the
+    consistent strain."""
+    membrane_stabilization: float = Field(0.0, ge=0, le=1)
+    """With @.membrane_strain_degree: weight γ kept on the strain the projection removes
+    (0: pure assumed strain; 0.01–0.1 suppresses the spurious in-plane modes of degrees 0–2;
+    1: the consistent strain)."""
+
+    friction_tangent: Literal["consistent", "nonnegative"] = "consistent"
+    """Newton's tangent of the friction moment: ``nonnegative`` floors it at zero where the
+    law softens (the moment falls with curvature after a reversal, e.g. Fabric 2's weft as
+    printed: −51 k1), which otherwise sends Newton off. The solution is unchanged."""
+
+    @model_validator(mode="after")
+    def _membrane_needs_large(self):
+        if self.membrane_stabilization and self.membrane_strain_degree is None:
+            raise _rule("@.membrane_stabilization needs @.membrane_strain_degree")
+        for key in ("membrane", "membrane_strain_degree"):
+            if getattr(self, key) is not None and self.kinematics != "large":
+                raise _rule(
+                    f"@.{key} is only used with @.kinematics = 'large' (got '{self.kinematics}')"
+                )
+        return self
+
+
+# --------------------------------------------------------------------------- [solver]
+class SolverSpec(_Section):
+    """[solver]: time integration (Newmark / HHT-α with Newton iterations)."""
+
+    dt: Q("s", gt=0)
+    """Initial and largest time step [s] (after a cut the step grows back to it); only the
+    settling phase goes beyond it, up to ``settling_dt``."""
+    t_end: Q("s", gt=0)
+    """End of the simulated time [s] (a [stop] rule may end the run earlier)."""
+    alpha_hht: float = Field(0.0, ge=-1.0 / 3.0, le=0.0)
+    """HHT-α parameter in [−1/3, 0]; negative values damp high-frequency modes."""
+    beta: float | None = Field(None, gt=0, le=0.5)
+    """Newmark β; default (1 − α)²/4 (¼, average acceleration, for α = 0)."""
+    gamma: float | None = Field(None, ge=0.5, le=1.0)
+    """Newmark γ; default ½ − α."""
+    rtol: float = Field(1e-9, gt=0, lt=1)
+    """Newton: relative residual tolerance (to the first residual of the step)."""
+    atol: float = Field(0.0, ge=0)
+    """Newton: absolute residual tolerance [N]."""
+    du_rtol: float = Field(1e-9, ge=0, lt=1)
+    """Newton: relative increment tolerance (to the step's displacement change)."""
+    du_atol: float = Field(0.0, ge=0)
+    """Newton: absolute increment tolerance [m]."""
+    max_iter: int = Field(25, ge=1)
+    """Newton iterations before the step is cut."""
+    max_cuts: int = Field(6, ge=0)
+    """Step halvings before the run stops with a convergence error."""
+    quasi_static: bool = False
+    """Equilibrium path (no inertia, no damping): load steps of ``dt`` in pseudo-time up to t_end."""
+    settling_dt: Q("s", gt=0) | None = None
+    """Longest time step once every load has stopped changing (the settling phase); default
+    ``dt``. From there the step doubles after every 4 converged steps up to this value: what
+    moves then is a slow, overdamped creep into equilibrium, and as the step grows the
+    update tends to Newton's on the static equilibrium (pseudo-transient continuation).
+    Output marks (``every_dt``) are not landed on in this phase."""
+
+    @model_validator(mode="after")
+    def _stable(self):
+        if self.dt > self.t_end:
+            raise _rule(f"@.dt = {self.dt}: must not exceed @.t_end = {self.t_end}")
+        if self.settling_dt is not None and self.settling_dt < self.dt:
+            raise _rule(f"@.settling_dt = {self.settling_dt}: must not be shorter than @.dt = {self.dt}")
+        if self.settling_dt is not None and self.quasi_static:
+            raise _rule("@.settling_dt: only for dynamic runs (quasi_static = true has no settling phase)")
+        gamma = self.newmark_gamma
+        beta = self.newmark_beta
+        if beta < gamma / 2 - 1e-12:
+            raise _rule(
+                f"@.beta = {beta}: must be >= gamma/2 = {gamma / 2} "
+                "(unconditional stability needs 2β ≥ γ ≥ ½)"
+            )
+        return self
+
+    @property
+    def newmark_gamma(self) -> float:
+        return self.gamma if self.gamma is not None else 0.5 - self.alpha_hht
+
+    @property
+    def newmark_beta(self) -> float:
+        return self.beta if self.beta is not None else (1.0 - self.alpha_hht) ** 2 / 4.0
+
+
+# --------------------------------------------------------------------------- [output]
+class OutputSpec(_Section):
+    """[output]: what is written and when."""
+
+    every: int = Field(1, ge=1)
+    """Write a VTU every N converged steps (ignored when every_dt is given)."""
+    every_dt: Q("s", gt=0) | None = None
+    """Write a VTU each time simulated time passes a multiple of every_dt [s]."""
+    fields: list[str] | None = None
+    """Fields kept in the VTU files (displacement is always kept); default: all the model gives."""
+
+
+# --------------------------------------------------------------------------- [stop]
+class StopSpec(_Section):
+    """[stop]: end the run early once the fabric has settled."""
+
+    kinetic_energy: Q("J", gt=0) | None = None
+    """Settled when the kinetic energy falls below this value [J]."""
+    kinetic_fraction: float | None = Field(None, gt=0, lt=1)
+    """Settled when the kinetic energy falls below this fraction of E_ref = ρ_A g A L: the
+    energy the free fabric (area A) would release falling its span L (strip/rectangle length,
+    Cusick overhang). 1e-6 means a mean speed of about sqrt(2e-6 g L) (~1 mm/s for L = 6 cm)."""
+    after: Q("s", ge=0) | None = None
+    """Check only after this time [s]; default: when the loads stop changing."""
+    steps: int = Field(5, ge=1)
+    """Consecutive converged steps that must satisfy the rule."""
+
+    @property
+    def active(self) -> bool:
+        return self.kinetic_energy is not None or self.kinetic_fraction is not None
