@@ -1,4 +1,4 @@
-"""Plots of a fitted KES-FB loop, like the thesis's Figs 4.8–4.34 (PNG, Agg).
+"""Plots of a fitted KES-FB loop, like the thesis's Figs 4.8–4.34 (PNG).
 
 Three panels in KES units: (a) measured data (thesis polynomial or CSV points)
 and the model loop, (b) the friction contribution ``M_f`` (Figs 4.13, 4.19,
@@ -16,12 +16,9 @@ True
 
 from __future__ import annotations
 
-import matplotlib
+from matplotlib.figure import Figure  # drawn without pyplot: the caller's backend is left alone
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from constitutive.datasets import CURVATURE_KES, MOMENT_KES  # noqa: E402
+from constitutive.datasets import CURVATURE_KES, MOMENT_KES
 
 __all__ = ["plot_fit"]
 
@@ -47,7 +44,8 @@ def plot_fit(result, path, points=None, dpi=120):
     M = result.model / MOMENT_KES
     Mf = result.friction_moment / MOMENT_KES
     data = loop.moment / MOMENT_KES
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), constrained_layout=True)
+    fig = Figure(figsize=(15, 4.6), constrained_layout=True)
+    axes = fig.subplots(1, 3)
     ax = axes[0]
     if points is not None:
         ax.plot(points[0] / CURVATURE_KES, points[1] / MOMENT_KES, ".", ms=2, color="0.6",
@@ -67,5 +65,4 @@ def plot_fit(result, path, points=None, dpi=120):
         a.axvline(0, color="0.8", lw=0.5)
         a.grid(alpha=0.3)
     fig.savefig(path, dpi=dpi)
-    plt.close(fig)
     return path

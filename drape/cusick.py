@@ -367,15 +367,14 @@ def plot_top_view(result: CusickResult, path, title: str | None = None):
     -------
     Path
     """
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure  # without pyplot: the caller's backend is left alone
     from matplotlib.patches import Circle
 
     path = Path(path)
     cx, cy = result.centre
     cm = 100.0  # plot in centimetres, as the drape meter's scale does
-    fig, ax = plt.subplots(figsize=(6, 6))
+    fig = Figure(figsize=(6, 6))
+    ax = fig.subplots()
     geoms = getattr(result.shadow, "geoms", [result.shadow])
     for g in geoms:
         ext = np.asarray(g.exterior.coords) * cm
@@ -407,7 +406,6 @@ def plot_top_view(result: CusickResult, path, title: str | None = None):
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=120)
-    plt.close(fig)
     return path
 
 

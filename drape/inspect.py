@@ -165,15 +165,13 @@ _ENERGY = ("kinetic", "strain", "bending", "membrane", "external_potential", "gr
 
 def plot_history(directory, out=None) -> Path:
     """Energies, probe displacements and solver effort against time, one PNG."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure  # without pyplot: the caller's backend is left alone
 
     h = read_history(directory)
     t = h["t"]
     probes = [k for k in h if k.startswith(("tip_", "centre_", "uz_"))]
-    fig, axes = plt.subplots(3, 1, figsize=(8, 9), sharex=True)
+    fig = Figure(figsize=(8, 9))
+    axes = fig.subplots(3, 1, sharex=True)
     for name in _ENERGY:
         if name in h:
             axes[0].plot(t, h[name], label=name)
@@ -198,7 +196,6 @@ def plot_history(directory, out=None) -> Path:
     fig.tight_layout()
     out = Path(out) if out else Path(directory) / "history.png"
     fig.savefig(out, dpi=110)
-    plt.close(fig)
     return out
 
 
@@ -207,14 +204,12 @@ def plot_kes_loop(directory, out=None) -> Path | None:
     h = read_history(directory)
     if "kappa" not in h or "moment" not in h:
         return None
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     from constitutive.units import to_kes
 
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    fig = Figure(figsize=(6, 4.5))
+    ax = fig.subplots()
     ax.plot(to_kes(h["kappa"], "curvature"), to_kes(h["moment"], "moment"), lw=1)
     ax.set_xlabel("curvature K [cm⁻¹]")
     ax.set_ylabel("moment M [gf·cm/cm]")
@@ -225,7 +220,6 @@ def plot_kes_loop(directory, out=None) -> Path | None:
     fig.tight_layout()
     out = Path(out) if out else Path(directory) / "kes_loop.png"
     fig.savefig(out, dpi=110)
-    plt.close(fig)
     return out
 
 
