@@ -31,6 +31,7 @@ __all__ = [
     "ParameterError",
     "FrictionParams",
     "FrictionState",
+    "restored_array",
     "dahl_path",
     "friction_path",
     "closed_form_from_rest",
@@ -238,6 +239,25 @@ class FrictionState:
         self.kappa = kappa.copy()
         self._cache = None
 
+    def state_dict(self) -> dict:
+        """The committed state as arrays: curvature ``kappa`` and the Dahl states ``y1``, ``y2``.
+
+        >>> st = FrictionState(FrictionParams(1.0, 0.5, 1.0, 0.5), shape=(2,))
+        >>> st.commit(np.array([0.3, -1.0]))
+        >>> again = FrictionState(st.params, shape=(2,))
+        >>> again.load_state_dict(st.state_dict())
+        >>> bool(np.array_equal(again.moment([0.5, 0.5]), st.moment([0.5, 0.5])))
+        True
+        """
+        return {"kappa": self.kappa.copy(), "y1": self.y1.copy(), "y2": self.y2.copy()}
+
+    def load_state_dict(self, state: dict) -> None:
+        """Restore a committed state written by :meth:`state_dict` (same shape)."""
+        arrays = {key: restored_array(f"friction state {key}", state, key, self.shape)
+                  for key in ("kappa", "y1", "y2")}
+        self.kappa, self.y1, self.y2 = arrays["kappa"], arrays["y1"], arrays["y2"]
+        self._cache = None
+
     def copy(self):
         """Independent copy (same parameters, copied state arrays)."""
         new = FrictionState.__new__(FrictionState)
@@ -245,6 +265,17 @@ class FrictionState:
         new.kappa, new.y1, new.y2 = self.kappa.copy(), self.y1.copy(), self.y2.copy()
         new._cache = None
         return new
+
+
+def restored_array(what: str, state: dict, key: str, shape) -> np.ndarray:
+    """``state[key]`` as a float array of ``shape``; a missing key or another shape is a
+    ``ValueError`` naming ``what`` (a checkpoint of another model or mesh)."""
+    if key not in state:
+        raise ValueError(f"{what}: missing from the saved state")
+    arr = np.array(state[key], dtype=float)
+    if arr.shape != tuple(shape):
+        raise ValueError(f"{what}: saved with shape {arr.shape}, expected {tuple(shape)}")
+    return arr
 
 
 def dahl_path(kappa, a, y0=0.0):

@@ -30,7 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from constitutive.friction import FrictionParams, FrictionState, ParameterError, _as_param, _check
+from constitutive.friction import (FrictionParams, FrictionState, ParameterError, _as_param, _check,
+                                     restored_array)
 
 __all__ = ["BendingLaw", "BendingState", "FRICTION_TANGENTS", "check_friction_tangent"]
 
@@ -240,6 +241,23 @@ class BendingState:
         if self.friction is not None:
             self.friction.commit(kappa)
         self.kappa = np.broadcast_to(np.asarray(kappa, dtype=float), self.shape).copy()
+
+    def state_dict(self) -> dict:
+        """The committed state as arrays: ``kappa`` and, with friction, ``friction.<name>``."""
+        out = {"kappa": self.kappa.copy()}
+        if self.friction is not None:
+            out.update({f"friction.{k}": v for k, v in self.friction.state_dict().items()})
+        return out
+
+    def load_state_dict(self, state: dict) -> None:
+        """Restore a committed state written by :meth:`state_dict` (same law and shape)."""
+        saved = {k.split(".", 1)[1]: v for k, v in state.items() if k.startswith("friction.")}
+        if bool(saved) != (self.friction is not None):
+            raise ValueError("bending state: saved " + ("with" if saved else "without")
+                             + " friction, but the law has " + ("none" if saved else "friction"))
+        self.kappa = restored_array("bending state kappa", state, "kappa", self.shape)
+        if self.friction is not None:
+            self.friction.load_state_dict(saved)
 
     def copy(self):
         """Independent copy of the state (e.g. to restart a cut step)."""

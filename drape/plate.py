@@ -39,6 +39,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 
+from constitutive.friction import restored_array
 from constitutive.law import check_friction_tangent
 from constitutive.units import G0
 import scipy.sparse as sp
@@ -494,6 +495,27 @@ class KirchhoffPlate:
         # trapezoidal rule: Δu = Δt v̄ exactly, so this is Δt v̄ᵀ C v̄
         self.damping_work += float((self.C @ vbar) @ du)
         self._committed = {"u": np.array(u, dtype=float), "v": np.array(v, dtype=float)}
+
+    def state_dict(self) -> dict:
+        """What :meth:`commit` keeps, as named arrays: the laws' states at every quadrature
+        point (``xx.*``, ``yy.*``), the committed ``u`` and ``v`` the work booking starts from,
+        the booked works, the load scale and the load time."""
+        out = {f"{d}.{k}": v for d in ("xx", "yy") for k, v in self.states[d].state_dict().items()}
+        out.update({f"committed_{k}": v.copy() for k, v in self._committed.items()})
+        out.update(friction_work=np.array(self.friction_work), damping_work=np.array(self.damping_work),
+                   load_scale=np.array(self.load_scale, dtype=float), t_last=np.array(self._t_last))
+        return out
+
+    def load_state_dict(self, state: dict) -> None:
+        """Restore a :meth:`state_dict` of a plate built from the same case."""
+        for d in ("xx", "yy"):
+            self.states[d].load_state_dict({k[3:]: v for k, v in state.items() if k.startswith(f"{d}.")})
+        self._committed = {k: restored_array(f"plate state committed_{k}", state, f"committed_{k}",
+                                             (self.ndofs,)) for k in ("u", "v")}
+        scalar = {k: float(restored_array(f"plate state {k}", state, k, ()))
+                  for k in ("friction_work", "damping_work", "load_scale", "t_last")}
+        self.friction_work, self.damping_work = scalar["friction_work"], scalar["damping_work"]
+        self.load_scale, self._t_last = scalar["load_scale"], scalar["t_last"]
 
     def strain_energy(self, u) -> float:
         """Elastic bending energy (cubic law per direction + linear twist); friction excluded."""

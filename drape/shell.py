@@ -51,6 +51,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from skfem import CellBasis, FacetBasis, MeshTri
 
+from constitutive.friction import restored_array
 from constitutive.law import BendingLaw, check_friction_tangent
 from constitutive.units import G0
 from drape.assembly import SparsityPattern
@@ -67,6 +68,10 @@ CURVATURE_SIGN = float(_PLATE_CURVATURE_SIGN)
 
 #: Standard gravity [m/s²].
 G_STANDARD = G0
+
+#: Private attributes :meth:`KirchhoffLoveShell.commit` keeps besides the laws' states.
+_SHELL_STATE = ("t_last", "friction_work", "damping_work", "u_committed", "v_committed",
+                "kappa_committed", "Mf_committed", "Md_committed")
 
 
 class ShellInputError(ValueError):
@@ -587,6 +592,27 @@ class KirchhoffLoveShell:
         self._u_committed = u.copy()
         self._kappa_committed = kappa
         self._Mf_committed = Mf_new           # the moment at the committed κ, already evaluated
+
+    def state_dict(self) -> dict:
+        """What :meth:`commit` keeps, as named arrays: the laws' states at every quadrature
+        point (``warp.*``, ``weft.*``), the committed kinematics and moments the work booking
+        starts from, the booked works, the load scale and the load time."""
+        out = {f"{name}.{k}": v for name, st in (("warp", self.warp_state), ("weft", self.weft_state))
+               for k, v in st.state_dict().items()}
+        out.update({k: np.array(getattr(self, f"_{k}"), dtype=float) for k in _SHELL_STATE})
+        out.update(load_scale=np.array(self.load_scale, dtype=float))
+        return out
+
+    def load_state_dict(self, state: dict) -> None:
+        """Restore a :meth:`state_dict` of a shell built from the same case."""
+        for name, st in (("warp", self.warp_state), ("weft", self.weft_state)):
+            st.load_state_dict({k[len(name) + 1:]: v for k, v in state.items()
+                                if k.startswith(f"{name}.")})
+        for key in _SHELL_STATE:
+            shape = np.shape(getattr(self, f"_{key}"))
+            value = restored_array(f"shell state {key}", state, key, shape)
+            setattr(self, f"_{key}", value if shape else float(value))
+        self.load_scale = float(restored_array("shell state load_scale", state, "load_scale", ()))
 
     def _viscous_moments(self, u, v):
         """The laws' viscous moments ``d κ̇`` (warp, weft) at the quadrature points."""
