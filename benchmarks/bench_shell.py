@@ -32,7 +32,8 @@ from skfem import Basis, BilinearForm
 from skfem.element import ElementVector
 
 from constitutive.material import load_material
-from drape.shell import CURVATURE_SIGN, KirchhoffLoveShell
+from constitutive.conventions import CURVATURE_SIGN
+from drape.shell import KirchhoffLoveShell
 from meshes import strip
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -258,6 +258,21 @@ class FrictionState:
         self.kappa, self.y1, self.y2 = arrays["kappa"], arrays["y1"], arrays["y2"]
         self._cache = None
 
+    def work(self, kappa):
+        """Exact work ``∫ M_f dκ`` from the committed to the trial curvature, per point.
+
+        Each Dahl state moves monotonically over the increment, so
+        ``∫ y dκ = |Δκ| + (σ y_n − 1) a (1 − exp(−|Δκ|/a))`` with ``σ = sign Δκ``.
+
+        >>> st = FrictionState(FrictionParams(1.0, 0.0, 1.0, 0.5), shape=(1,))
+        >>> k = np.array([40.0])                   # far into slip: y1 → 1
+        >>> bool(abs(st.work(k)[0] - (40.0 - 0.5)) < 1e-12)     # f1 (Δκ − a1)
+        True
+        """
+        p = self.params
+        dk = np.asarray(kappa, dtype=float) - self.kappa
+        return p.f1 * _dahl_work(self.y1, dk, p.a1) - p.f2 * _dahl_work(self.y2, dk, p.a2)
+
     def copy(self):
         """Independent copy (same parameters, copied state arrays)."""
         new = FrictionState.__new__(FrictionState)
@@ -276,6 +291,11 @@ def restored_array(what: str, state: dict, key: str, shape) -> np.ndarray:
     if arr.shape != tuple(shape):
         raise ValueError(f"{what}: saved with shape {arr.shape}, expected {tuple(shape)}")
     return arr
+
+def _dahl_work(y, dk, a):
+    """``∫ y dκ`` over a monotone increment ``dk`` of a Dahl state starting at ``y``."""
+    sigma = np.sign(dk)
+    return np.abs(dk) + (sigma * y - 1.0) * a * (1.0 - np.exp(-np.abs(dk) / a))
 
 
 def dahl_path(kappa, a, y0=0.0):

@@ -137,6 +137,20 @@ class BendingLaw:
         k2 = kappa * kappa
         return (k1 + k3 * k2) * kappa, k1 + 3.0 * k3 * k2
 
+    def elastic_energy(self, kappa):
+        """Stored energy ``∫₀^κ (k1 s + k3 s³) ds`` [N·m/m² · m = J/m²] (face-down values for κ < 0).
+
+        >>> float(BendingLaw(k1=2.0, k3=4.0).elastic_energy(1.0))   # ½·2 + ¼·4
+        2.0
+        """
+        kappa = np.asarray(kappa, dtype=float)
+        k1, k3 = self.k1, self.k3
+        if not self.symmetric:
+            neg = kappa < 0
+            k1 = np.where(neg, self.k1 if self.k1_neg is None else self.k1_neg, k1)
+            k3 = np.where(neg, self.k3 if self.k3_neg is None else self.k3_neg, k3)
+        return 0.5 * k1 * kappa**2 + 0.25 * k3 * kappa**4
+
     def new_state(self, shape=()) -> "BendingState":
         """A state at rest (κ = 0, friction unloaded) for material points of ``shape``."""
         return BendingState(self, shape)
@@ -258,6 +272,13 @@ class BendingState:
         self.kappa = restored_array("bending state kappa", state, "kappa", self.shape)
         if self.friction is not None:
             self.friction.load_state_dict(saved)
+
+    def friction_work(self, kappa):
+        """Work ``∫ M_f dκ`` [J/m²] the friction dissipates from the committed to the trial
+        curvature, per material point (zeros without friction; :meth:`FrictionState.work`)."""
+        if self.friction is None:
+            return np.zeros(np.broadcast_shapes(np.shape(kappa), self.shape))
+        return self.friction.work(kappa)
 
     def copy(self):
         """Independent copy of the state (e.g. to restart a cut step)."""

@@ -14,8 +14,35 @@ from pydantic import Field, field_validator, model_validator
 
 from drape.schema import Q, _rule, _Section
 
-__all__ = ["amplitude", "Amplitude", "Gravity", "Pressure", "EndMoment", "KesDrive",
+__all__ = ["as_function", "amplitude", "Amplitude", "Gravity", "Pressure", "EndMoment", "KesDrive",
            "Perturbation", "LoadSpec", "load_amplitudes", "kes_curvature"]
+
+
+def as_function(value, name: str, error: type[Exception] = ValueError):
+    """A load given as a number, an array, a bool or a callable of time, as a callable of time.
+
+    None stays None (no such load); a bool is 1 or 0. ``error`` is the exception raised for a
+    value that is none of these, naming ``name``.
+
+    >>> as_function(2, "gravity")(0.5), as_function(True, "gravity")(0.0)
+    (2.0, 1.0)
+    >>> as_function("heavy", "gravity")
+    Traceback (most recent call last):
+    ...
+    ValueError: gravity must be a number, an array or a callable t -> value, got 'heavy'
+    """
+    if value is None or callable(value):
+        return value
+    if isinstance(value, (bool, np.bool_)):
+        value = 1.0 if value else 0.0
+    try:
+        const = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise error(f"{name} must be a number, an array or a callable t -> value, got {value!r}") from None
+    if not np.all(np.isfinite(const)):
+        raise error(f"{name} must be finite, got {value!r}")
+    const = float(const) if const.ndim == 0 else const
+    return lambda t: const
 
 
 def amplitude(t: float, ramp_time: float = 0.0, history=None, smooth: bool = True) -> float:

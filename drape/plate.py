@@ -41,11 +41,13 @@ import numpy as np
 
 from constitutive.friction import restored_array
 from constitutive.law import check_friction_tangent
+from constitutive.conventions import CURVATURE_SIGN, twisting_moment
 from constitutive.units import G0
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 import skfem
 
+from .loads import as_function
 from .assembly import (
     SparsityPattern,
     at_quadrature,
@@ -55,35 +57,14 @@ from .assembly import (
     element_vector,
 )
 
-__all__ = ["KirchhoffPlate", "PlateInputError", "pure_bending_rotations", "demo_material", "STANDARD_GRAVITY"]
+__all__ = ["KirchhoffPlate", "PlateInputError", "pure_bending_rotations", "demo_material"]
 
-STANDARD_GRAVITY = G0
-#: ``κ_αβ = CURVATURE_SIGN · w_,αβ``: positive κ bends the fabric face-up (concave towards +z,
-#: DESIGN §2), the small-rotation limit of the shell's ``κ = u_,αβ · n``; so a cantilever sagging
-#: under gravity bends face-down (κ_xx < 0). The one switch for plate and shell alike;
-#: tests/test_plate.py::test_sign_convention_positive_curvature pins it.
-CURVATURE_SIGN = 1.0
 SUPPORT_KINDS = ("clamped", "simply_supported", "free")
 _DEFAULT_INTORDER = {"morley": 4, "argyris": 10}
 
 
 class PlateInputError(ValueError):
     """Invalid plate-model input; the message names the parameter and the rule it breaks."""
-
-
-def _as_function(value, name: str) -> Callable[[float], float]:
-    """A load factor given as a number, a bool or a callable of time."""
-    if callable(value):
-        return value
-    if isinstance(value, (bool, np.bool_)):
-        value = 1.0 if value else 0.0
-    try:
-        c = float(value)
-    except (TypeError, ValueError):
-        raise PlateInputError(f"{name} must be a number or a callable t -> float, got {value!r}") from None
-    if not np.isfinite(c):
-        raise PlateInputError(f"{name} must be finite, got {c}")
-    return lambda t, c=c: c
 
 
 def _make_element(element, constraints):
@@ -121,35 +102,6 @@ def _material_parts(material):
 def _coef(law, name: str) -> float:
     value = getattr(law, name, 0.0)
     return 0.0 if value is None else float(value)
-
-
-def _elastic_energy(law, kappa):
-    """∫₀^κ (k1 s + k3 s³) ds with the optional face-down (κ < 0) coefficients."""
-    k1, k3 = _coef(law, "k1"), _coef(law, "k3")
-    k1n = getattr(law, "k1_neg", None)
-    k3n = getattr(law, "k3_neg", None)
-    k1n = k1 if k1n is None else float(k1n)
-    k3n = k3 if k3n is None else float(k3n)
-    pos = kappa >= 0
-    k1a = np.where(pos, k1, k1n)
-    k3a = np.where(pos, k3, k3n)
-    return 0.5 * k1a * kappa**2 + 0.25 * k3a * kappa**4
-
-
-def _dahl_work(y, dk, a):
-    """Exact ``∫ y dκ`` over a monotone increment ``dk`` of a Dahl state starting at ``y``."""
-    sigma = np.sign(dk)
-    return np.abs(dk) + (sigma * y - 1.0) * a * (1.0 - np.exp(-np.abs(dk) / a))
-
-
-def _friction_increment_work(state, kappa):
-    """Exact friction work ``∫ M_f dκ`` from the committed to the trial curvature, per material point."""
-    fr = getattr(state, "friction", None)
-    if fr is None:
-        return np.zeros(np.shape(kappa))
-    p = fr.params
-    dk = np.asarray(kappa) - fr.kappa
-    return p.f1 * _dahl_work(fr.y1, dk, p.a1) - p.f2 * _dahl_work(fr.y2, dk, p.a2)
 
 
 @dataclass
@@ -276,8 +228,8 @@ class KirchhoffPlate:
         rho, self.warp, self.weft, self.twist_rigidity = _material_parts(material)
         self.areal_mass = rho
         self.material = material
-        self._gravity = _as_function(gravity, "gravity")
-        self._pressure = _as_function(pressure, "pressure")
+        self._gravity = as_function(gravity, "gravity", PlateInputError)
+        self._pressure = as_function(pressure, "pressure", PlateInputError)
         try:
             alpha, beta = (float(c) for c in rayleigh)
         except (TypeError, ValueError):
@@ -453,12 +405,12 @@ class KirchhoffPlate:
     # ------------------------------------------------------------------ physics
     def external_force(self, t: float) -> np.ndarray:
         """``f_ext(t) = load_scale (q(t) − λ(t) ρ_A g) ∫ N``."""
-        q = self._pressure(t) - self._gravity(t) * self.areal_mass * STANDARD_GRAVITY
+        q = self._pressure(t) - self._gravity(t) * self.areal_mass * G0
         return self.load_scale * q * self._f_unit
 
     def force_scale(self, t: float) -> float:
         """Typical force norm for the integrator's residual test: |f_ext(t)| at full load."""
-        q = abs(self._pressure(t)) + abs(self._gravity(t)) * self.areal_mass * STANDARD_GRAVITY
+        q = abs(self._pressure(t)) + abs(self._gravity(t)) * self.areal_mass * G0
         return float(q * np.linalg.norm(self._f_unit))
 
     def curvatures(self, u) -> dict:
@@ -488,7 +440,7 @@ class KirchhoffPlate:
         """Accept the converged step: commit the friction states and book the dissipated work."""
         kappa = self.curvatures(u)
         for d in ("xx", "yy"):
-            self.friction_work += float(np.sum(_friction_increment_work(self.states[d], kappa[d]) * self._dx))
+            self.friction_work += float(np.sum(self.states[d].friction_work(kappa[d]) * self._dx))
             self.states[d].commit(kappa[d])
         du = np.asarray(u) - self._committed["u"]
         vbar = 0.5 * (np.asarray(v) + self._committed["v"])
@@ -520,7 +472,7 @@ class KirchhoffPlate:
     def strain_energy(self, u) -> float:
         """Elastic bending energy (cubic law per direction + linear twist); friction excluded."""
         kappa = self.curvatures(u)
-        e = sum(np.sum(_elastic_energy(self._laws[d], kappa[d]) * self._dx) for d in ("xx", "yy"))
+        e = sum(np.sum(self._laws[d].elastic_energy(kappa[d]) * self._dx) for d in ("xx", "yy"))
         return float(e + 0.5 * u @ (self.K_twist @ u))
 
     @property
@@ -567,7 +519,7 @@ class KirchhoffPlate:
             out[f"moment_{d}"] = moment + _coef(law, "d") * rate[d] + _coef(law, "m") * accel[d]
             out[f"friction_moment_{d}"] = np.asarray(self.states[d].friction_moment(kappa[d]))
         out["curvature_xy"] = kappa["xy"]
-        out["moment_xy"] = 2.0 * self.twist_rigidity * kappa["xy"]
+        out["moment_xy"] = twisting_moment(self.twist_rigidity, kappa["xy"])
         return out
 
     def fields(self, u, v, a) -> dict:

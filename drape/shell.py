@@ -53,42 +53,19 @@ from skfem import CellBasis, FacetBasis, MeshTri
 
 from constitutive.friction import restored_array
 from constitutive.law import BendingLaw, check_friction_tangent
+from constitutive.conventions import CURVATURE_SIGN, twisting_moment
 from constitutive.units import G0
 from drape.assembly import SparsityPattern
 from drape.kinematics import KLPoint, assumed_strain_operator, basis_arrays, gram
-from drape.plate import CURVATURE_SIGN as _PLATE_CURVATURE_SIGN
-from drape.plate import _elastic_energy
-
-#: Sign of the curvature fed to the laws and written out: ``κ_αβ = ±u_,αβ · n``.
-#: DESIGN.md §2 and §4: +, positive κ bends the fabric face-up (concave towards +z). The
-#: shell takes the plate's constant (κ = w_,xx there) so both models give
-#: the same κ (and the same face-up/face-down law branch) for the same bend: one switch,
-#: :data:`drape.plate.CURVATURE_SIGN`.
-CURVATURE_SIGN = float(_PLATE_CURVATURE_SIGN)
-
-#: Standard gravity [m/s²].
-G_STANDARD = G0
+from drape.loads import as_function
 
 #: Private attributes :meth:`KirchhoffLoveShell.commit` keeps besides the laws' states.
 _SHELL_STATE = ("t_last", "friction_work", "damping_work", "u_committed", "v_committed",
-                "kappa_committed", "Mf_committed", "Md_committed")
+                "kappa_committed", "Md_committed")
 
 
 class ShellInputError(ValueError):
     """Invalid input to the large-rotation shell model."""
-
-
-def _as_function(value, name):
-    """Constant or callable of time -> callable of time."""
-    if value is None:
-        return None
-    if callable(value):
-        return value
-    try:
-        const = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ShellInputError(f"{name} must be a number, an array or a callable of t")
-    return lambda t: const
 
 
 def default_element(mesh=None, clamped=()):
@@ -251,7 +228,7 @@ class KirchhoffLoveShell:
                  fixed_dofs=None, element=None, gravity=1.0,
                  edge_load: Optional[Callable] = None, end_moment=None,
                  surface_load=None, load_boundary: str = "free", rayleigh=(0.0, 0.0), intorder: int = 6,
-                 g: float = G_STANDARD, chunk: int = 512, membrane_strain_degree=None,
+                 g: float = G0, chunk: int = 512, membrane_strain_degree=None,
                  membrane_stabilization: float = 0.0, friction_tangent: str = "consistent"):
         self.mesh = mesh
         try:
@@ -272,9 +249,9 @@ class KirchhoffLoveShell:
         self.twist = parts["twist"]
         self.C_m = parts["membrane"]
         self.g = float(g)
-        self.gravity = _as_function(gravity, "gravity")
-        self.edge_load = _as_function(edge_load, "edge_load")
-        self.end_moment = _as_function(end_moment, "end_moment")
+        self.gravity = as_function(gravity, "gravity", ShellInputError)
+        self.edge_load = as_function(edge_load, "edge_load", ShellInputError)
+        self.end_moment = as_function(end_moment, "end_moment", ShellInputError)
         if len(rayleigh) != 2 or min(rayleigh) < 0:
             raise ShellInputError(f"rayleigh must be (alpha >= 0, beta >= 0), got {rayleigh}")
         self.rayleigh = tuple(float(r) for r in rayleigh)
@@ -312,7 +289,7 @@ class KirchhoffLoveShell:
         if surface_load is not None:
             traction, amplitude = surface_load
             self._f_surface = self._surface_vector(traction)
-            self.surface_amplitude = _as_function(amplitude, "surface_load amplitude")
+            self.surface_amplitude = as_function(amplitude, "surface_load amplitude", ShellInputError)
         zero = np.zeros(self.ndofs)
         self.load_scale = 1.0
         self._t_last = 0.0
@@ -320,7 +297,6 @@ class KirchhoffLoveShell:
         self._friction_work = self._damping_work = 0.0
         self._u_committed, self._v_committed = zero.copy(), zero.copy()   # at rest
         self._kappa_committed = np.zeros(self.w.shape + (3,))
-        self._Mf_committed = np.zeros(self.w.shape + (2,))
         self._Md_committed = np.zeros(self.w.shape + (2,))
 
     # ------------------------------------------------------------------ setup
@@ -570,10 +546,10 @@ class KirchhoffLoveShell:
         """Accept the converged state: commit the friction states, book the dissipated work."""
         u = np.asarray(u, dtype=float)
         _, kappa = self.qp_state(u)
-        Mf_new = self._friction_moments(kappa)
         dk = kappa[..., :2] - self._kappa_committed[..., :2]
-        self._friction_work += float(np.einsum(
-            "eqv,eq->", 0.5 * (Mf_new + self._Mf_committed) * dk, self.w))
+        self._friction_work += float(np.sum(
+            (self.warp_state.friction_work(kappa[..., 0])
+             + self.weft_state.friction_work(kappa[..., 1])) * self.w))
         if v is not None:
             v = np.asarray(v, dtype=float)
             alpha, beta = self.rayleigh
@@ -591,7 +567,6 @@ class KirchhoffLoveShell:
         self.weft_state.commit(kappa[..., 1])
         self._u_committed = u.copy()
         self._kappa_committed = kappa
-        self._Mf_committed = Mf_new           # the moment at the committed κ, already evaluated
 
     def state_dict(self) -> dict:
         """What :meth:`commit` keeps, as named arrays: the laws' states at every quadrature
@@ -626,10 +601,6 @@ class KirchhoffLoveShell:
             out[sl] = d * np.einsum("eqvI,eI->eqv", kp.curvature_variation()[:, :, :2], ve)
         return out
 
-    def _friction_moments(self, kappa):
-        return np.stack([self.warp_state.friction_moment(kappa[..., 0]),
-                         self.weft_state.friction_moment(kappa[..., 1])], axis=-1)
-
     def _membrane_strain(self, eps):
         """``Q eps`` (e, q, ...), whose forces ``C_m Q eps`` the membrane carries: the
         assumed-strain operator of :func:`drape.kinematics.assumed_strain_operator` when
@@ -661,7 +632,7 @@ class KirchhoffLoveShell:
             out[f"moment_{name}"] = state.trial(kap[..., i])[0]
             out[f"friction_moment_{name}"] = state.friction_moment(kap[..., i])
         out["curvature_xy"] = 0.5 * kap[..., 2]
-        out["moment_xy"] = 0.5 * self.twist * kap[..., 2]
+        out["moment_xy"] = twisting_moment(self.twist, out["curvature_xy"])
         out["membrane_strain_xx"] = eps[..., 0]
         out["membrane_strain_yy"] = eps[..., 1]
         out["membrane_strain_xy"] = 0.5 * eps[..., 2]
@@ -680,7 +651,7 @@ class KirchhoffLoveShell:
         ``t`` evaluates the dead loads' potential (default: :attr:`load_time`)."""
         eps, kap = self.qp_state(u)
         membrane = 0.5 * np.einsum("eqv,vw,eqw,eq->", eps, self.C_m, self._membrane_strain(eps), self.w)
-        bend = sum(float(np.sum(_elastic_energy(law, kap[..., i]) * self.w))
+        bend = sum(float(np.sum(law.elastic_energy(kap[..., i]) * self.w))
                    for i, law in enumerate((self.warp_law, self.weft_law)))
         bend += float(np.sum(0.25 * self.twist * kap[..., 2] ** 2 * self.w))
         kinetic = 0.5 * float(v @ (self._M @ v))

@@ -14,7 +14,8 @@ from skfem import MeshTri
 
 from drape.newmark import quasi_static
 from drape.peirce import shell_peirce_summary
-from drape.shell import ElasticMaterial, G_STANDARD, KirchhoffLoveShell
+from constitutive.units import G0 as G_STANDARD
+from drape.shell import ElasticMaterial, KirchhoffLoveShell
 
 
 def elastica_tip(alpha, with_tip_angle=False):

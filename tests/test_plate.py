@@ -17,7 +17,8 @@ from constitutive.friction import FrictionParams, closed_form_from_rest
 from constitutive.law import BendingLaw
 from constitutive.material import FabricMaterial
 from drape.newmark import initial_state, integrate, quasi_static
-from drape.plate import STANDARD_GRAVITY, KirchhoffPlate, PlateInputError, pure_bending_rotations
+from constitutive.units import G0 as STANDARD_GRAVITY
+from drape.plate import KirchhoffPlate, PlateInputError, pure_bending_rotations
 
 B = 2.0e-5        # N·m, bending rigidity (a mid-weight fabric)
 RHO = 0.2         # kg/m²

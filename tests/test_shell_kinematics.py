@@ -6,7 +6,8 @@ from skfem import MeshTri
 
 from constitutive.friction import FrictionParams
 from constitutive.law import BendingLaw
-from drape.shell import KirchhoffLoveShell, CURVATURE_SIGN
+from constitutive.conventions import CURVATURE_SIGN
+from drape.shell import KirchhoffLoveShell
 
 
 class _Material:
