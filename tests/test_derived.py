@@ -37,19 +37,27 @@ def box(f1, f2, eps, eta, half, n=7, f_k=None):
     return FrictionParams(*(x[ok] for x in g))
 
 
-def within(name, printed, half_out, values):
+def within(name, printed, half_out, values, width=0.2):
+    """Printed value inside the range over the rounding box, and that range narrow enough
+    (``width`` of the printed value) for the check to be able to fail."""
     lo, hi = np.nanmin(values), np.nanmax(values)
+    assert hi - lo <= width * abs(printed) + 2 * half_out, f"{name}: box [{lo:.6g}, {hi:.6g}] too wide to test"
     assert lo - half_out <= printed <= hi + half_out, f"{name}: printed {printed} outside [{lo:.6g}, {hi:.6g}]"
+
+
+#: s_e of Fabric 1 warp spans 9.7 … 17.3 cm⁻¹ over the rounding box of its inputs (η = 0.9998 is
+#: within 2e-4 of 1, where 3.12 is singular): the box cannot test it. The η that reproduces the
+#: printed value does (test_s_e_sensitivity_to_the_rounding_of_eta_fabric1_warp).
+_UNTESTABLE_BY_THE_BOX = {("fabric1-warp", "s_e")}
 
 
 @pytest.mark.parametrize("fabric", sorted(TABLES))
 def test_tables_4_5_4_8_4_11_reproduced_within_rounding(fabric):
     (tin, f1, f2, eps, eta, half), (tout, s_e, s_p, f_k, f_s, hout) = TABLES[fabric]
     q = friction_quantities(box(f1, f2, eps, eta, half))
-    within(f"Table {tout} s_e", s_e, hout[0], q["s_e"])
-    within(f"Table {tout} s_p", s_p, hout[1], q["s_p"])
-    within(f"Table {tout} f_k", f_k, hout[2], q["f_k"])
-    within(f"Table {tout} f_s", f_s, hout[3], q["f_s"])
+    for name, printed, h in zip(("s_e", "s_p", "f_k", "f_s"), (s_e, s_p, f_k, f_s), hout):
+        if (fabric, name) not in _UNTESTABLE_BY_THE_BOX:
+            within(f"Table {tout} {name}", printed, h, q[name])
 
 
 def test_s_e_sensitivity_to_the_rounding_of_eta_fabric1_warp():
