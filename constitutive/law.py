@@ -128,12 +128,7 @@ class BendingLaw:
         M_e, dM_e : ndarray
             [N·m/m] and [N·m]; at κ = 0 the tangent is the face-up ``k1``.
         """
-        kappa = np.asarray(kappa, dtype=float)
-        k1, k3 = self.k1, self.k3
-        if not self.symmetric:
-            neg = kappa < 0
-            k1 = np.where(neg, self.k1 if self.k1_neg is None else self.k1_neg, k1)
-            k3 = np.where(neg, self.k3 if self.k3_neg is None else self.k3_neg, k3)
+        kappa, k1, k3 = self._branch(kappa)
         k2 = kappa * kappa
         return (k1 + k3 * k2) * kappa, k1 + 3.0 * k3 * k2
 
@@ -143,13 +138,18 @@ class BendingLaw:
         >>> float(BendingLaw(k1=2.0, k3=4.0).elastic_energy(1.0))   # ½·2 + ¼·4
         2.0
         """
+        kappa, k1, k3 = self._branch(kappa)
+        return 0.5 * k1 * kappa**2 + 0.25 * k3 * kappa**4
+
+    def _branch(self, kappa):
+        """``(κ, k1, k3)`` with the face-down coefficients where κ < 0."""
         kappa = np.asarray(kappa, dtype=float)
         k1, k3 = self.k1, self.k3
         if not self.symmetric:
             neg = kappa < 0
             k1 = np.where(neg, self.k1 if self.k1_neg is None else self.k1_neg, k1)
             k3 = np.where(neg, self.k3 if self.k3_neg is None else self.k3_neg, k3)
-        return 0.5 * k1 * kappa**2 + 0.25 * k3 * kappa**4
+        return kappa, k1, k3
 
     def new_state(self, shape=()) -> "BendingState":
         """A state at rest (κ = 0, friction unloaded) for material points of ``shape``."""

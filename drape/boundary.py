@@ -346,8 +346,7 @@ def rotation_dofs(basis, name: str, conditions: Mapping[str, str] | None = None,
     >>> from skfem import Basis
     >>> from meshes import strip
     >>> mesh = strip(0.1, 0.02, 4, 1)
-    >>> basis = Basis(mesh, argyris_element(mesh, {"clamped": "clamped"}))
-    >>> dofs, unit = rotation_dofs(basis, "clamped")
+    >>> dofs, unit = rotation_dofs(Basis(mesh, argyris_element(mesh, {"clamped": "clamped"})), "clamped")
     >>> [float(v) for v in sorted(set(np.round(unit, 12)))]   # w_x = 1 at nodes, u_n = -1 on the edge
     [-1.0, 0.0, 1.0]
     """

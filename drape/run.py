@@ -212,23 +212,25 @@ def _progress(total: float, quiet: bool):
                 file=sys.stderr, leave=False)
 
 
-
 # --------------------------------------------------------------------------- CLI
+_EXAMPLES = """\
+example:
+  python -m drape.run cases/cantilever.toml --out out/cantilever \\
+      --set solver.t_end=0.5 --set mesh.nx=10 --set "mesh.length=3 cm"
+  python -m drape.inspect out/cantilever      (pictures of the result)
+
+outputs in DIR: <name>_NNNN.vtu + <name>.pvd (ParaView, pyvista), history.csv,
+summary.json, case.resolved.toml, run.log
+
+exit codes: 0 completed or settled, 1 bad input, 2 no convergence (every converged
+step stays on disk; summary.json says why), 130 interrupted"""
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
-        prog="python -m drape.run",
+        prog="python -m drape.run", epilog=_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter,
         description="Run a fabric bending / drape case file (TOML) and write VTU/PVD, "
-                    "history.csv and summary.json.",
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog="example:\n"
-               "  python -m drape.run cases/cantilever.toml --out out/cantilever \\\n"
-               "      --set solver.t_end=0.5 --set mesh.nx=10 --set \"mesh.length=3 cm\"\n"
-               "  python -m drape.inspect out/cantilever      (pictures of the result)\n\n"
-               "outputs in DIR: <name>_NNNN.vtu + <name>.pvd (ParaView, pyvista), history.csv,\n"
-               "summary.json, case.resolved.toml, run.log\n\n"
-               "exit codes: 0 completed or settled, 1 bad input, 2 no convergence (every converged\n"
-               "step stays on disk; summary.json says why), 130 interrupted",
-    )
+                    "history.csv and summary.json.")
     p.add_argument("case", nargs="?", help="case file (TOML)")
     p.add_argument("--out", metavar="DIR",
                    help="output directory (default: out/<case name>)")
