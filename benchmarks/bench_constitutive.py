@@ -1,6 +1,6 @@
 """Constitutive benchmarks: one KES-FB cycle for one material point; the friction state update.
 
-Targets (issue 2): one KES cycle at 1 ms (~20,000 samples) in <= 20 ms via ``run_kes``;
+Targets: one KES cycle at 1 ms (~20,000 samples) in <= 20 ms via ``run_kes``;
 ``FrictionState`` trial + commit at >= 5e6 point-updates/s for N = 1e5 points.
 Prints the median of repeated runs.
 

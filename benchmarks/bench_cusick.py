@@ -1,4 +1,4 @@
-"""Cusick drape benchmark: the studies issue 5 asks for, run through the case runner.
+"""Cusick drape benchmark: mesh, perturbation and stop studies run through the case runner.
 
 Studies (each a set of runs of cases/cusick_*.toml with dotted overrides):
 

@@ -1,6 +1,6 @@
 """Benchmark: all 20 (dataset x variant) global fits of ``--all-thesis``.
 
-Target (issue 2): <= 30 s total on 2 cores.  Prints the 20-cell residual table,
+Target: <= 30 s total on 2 cores.  Prints the 20-cell residual table,
 the wall time with 1 and 2 worker processes, and the CPU time per fit.
 
     python benchmarks/bench_fit.py [--accel-time T] [--workers 1,2]

@@ -4,7 +4,7 @@
    (a) with a scikit-fem ``BilinearForm`` on ``ElementVector(Argyris, 3)`` (one
    Python form call per basis pair: 63² = 3969 per element batch) and (b) with
    the shell's batched einsum/matmul assembly on a precomputed sparsity pattern
-   (DESIGN.md §4, trap d).  The two must agree to 1e-10 (relative, max norm);
+   (docs/theory.md §4).  The two must agree to 1e-10 (relative, max norm);
    the speed-up is printed.  Also the full nonlinear residual + consistent
    tangent at a deformed state.
 2. The Newton linear solve on the Cusick annulus (``meshes.cusick_annulus``, Fabric 1):

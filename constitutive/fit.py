@@ -1,6 +1,6 @@
 """Fit the hysteretic bending law to a KES-FB loop: global, no initial guess.
 
-Model (thesis 4.1/4.4 in the physically consistent form of DESIGN §3)::
+Model (thesis 4.1/4.4 in the physically consistent form of docs/theory.md §2)::
 
     M = m κ̈ + d κ̇ + k1 κ + k3 κ³ + M_f,    M_f = f1 y1 − f2 y2,
 
@@ -35,7 +35,7 @@ covers every distinguishable friction behaviour (a length below the 1 ms
 sample spacing of 5·10⁻⁴ cm⁻¹ is Coulomb friction, one far above the
 ±2.5 cm⁻¹ range makes the Dahl state linear in κ — indistinguishable from
 k1; η = 1 − 10⁻⁶ is the f1 ≈ f2 → ∞, η → 1 ridge the thesis's fits drift to,
-DESIGN §3, which in these coordinates is one edge of the box instead of a
+which in these coordinates is one edge of the box instead of a
 plateau); and the grid (0.25 decades in both lengths) resolves every basin
 wider than its spacing, each then refined locally.  Logarithms of the two
 lengths, rather than of 1 − η, matter: ε_f and η trade off along a narrow

@@ -7,7 +7,7 @@ constant rate v, decelerate symmetrically to rest at the target.  Each ramp
 covers ``v T / 2`` of curvature.  In the "no deceleration at end" variant the
 last phase keeps the rate v until κ = 0 (regions 1–8 only).
 
-Characteristic values (DESIGN §3).  ``B``: mean slope of M(κ) over
+Characteristic values (docs/theory.md §3).  ``B``: mean slope of M(κ) over
 0.5 ≤ |κ| ≤ 1.5 cm⁻¹; ``2HB``: loop width at |κ| = 1 cm⁻¹; each averaged over
 the positive and negative sides.
 

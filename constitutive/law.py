@@ -1,4 +1,4 @@
-"""The hysteretic bending law of one fabric direction (thesis Ch. 4, DESIGN §3).
+"""The hysteretic bending law of one fabric direction (Lahey 2002, Ch. 4; docs/theory.md §2).
 
 The moment per unit width needed to impose a curvature history κ(t) is::
 

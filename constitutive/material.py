@@ -9,7 +9,7 @@ Defaults (documented, overridable in the file):
 
 * twist rigidity ``D_t = sqrt(k1_warp · k1_weft)``: the value an isotropic
   plate with ν = 0 would have in the energy ``½B1κ11² + ½B2κ22² + D_t κ12²``
-  (CONVENTIONS.md); fabrics have one, the thesis omitted it.
+  (docs/theory.md §1); fabrics have one, the thesis omitted it.
 * membrane (woven fabric: stiff along the yarns, soft in shear; KES gives no
   direct in-plane stiffness): ``E11 = E22 = 1.0e4 N/m``, ``ν12 = 0``,
   ``G12 = 50 N/m``.  Given in N/m in the ``[membrane]`` table.

@@ -4,7 +4,7 @@ scikit-fem's :class:`skfem.ElementTriArgyris` inverts a Vandermonde matrix of
 *global* monomials ``x**a * y**b``.  On small or offset elements that matrix is
 hopelessly ill-conditioned: on a 64×64 unit-square mesh the constant function
 is reproduced only to ~5e-5 (Hessian ~1e-2) and on the square [10, 11]² the
-error is O(1) (DESIGN.md §4, trap a).  This element uses the monomials of the
+error is O(1) (docs/theory.md §4).  This element uses the monomials of the
 element-local coordinates ``ξ = (x − c_e)/h_e`` (``c_e`` the centroid, ``h_e``
 the largest centroid-to-vertex distance), so the local Vandermonde matrix is
 O(1) and identical in conditioning for every element of every mesh; the degrees
@@ -16,7 +16,7 @@ The element is a drop-in for ``ElementTriArgyris``: same ``dofnames``
 ``doflocs``, usable in :class:`skfem.Basis`, :class:`skfem.ElementVector`,
 :class:`skfem.FacetBasis`, ``basis.interpolate`` and ``basis.probes``.  The
 inverse Vandermonde and the last evaluated basis are cached *keyed by the mesh
-object* (trap b: the stock element keeps the first mesh's matrix forever).
+object* (the stock element keeps the first mesh's matrix forever).
 
 Edge normals (the direction of the ``u_n`` dof) follow skfem's convention:
 on a boundary edge the outward unit normal; on an interior edge the unit vector

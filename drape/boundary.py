@@ -12,7 +12,7 @@ Argyris (per vertex ``u, u_x, u_y, u_xx, u_xy, u_yy``, per edge ``u_n``).  With
 * clamped (``u = ∂u/∂n = 0`` on the edge): ``u, ∇u`` and, because ``u`` and
   ``∂u/∂n`` vanish *along* the edge, ``u_tt = u_tn = 0``; the edge-midpoint
   slopes ``u_n`` are fixed too.  ``u_nn`` stays free — fixing it (i.e. all
-  second derivatives) makes the plate ~2.5 % too stiff (DESIGN.md §4 trap c).
+  second derivatives) makes the plate ~2.5 % too stiff (docs/theory.md §4).
   At a clamped corner (two clamped edges turning by ``corner_angle`` or more)
   ``H t1 = H t2 = 0`` forces the whole Hessian to zero.
 * simply supported (``u = 0`` on the edge): ``u`` and ``u_t``; on a straight

@@ -1,7 +1,7 @@
 """Small-deflection Kirchhoff plate of fabric with the hysteretic bending law (thesis ch. 5).
 
 Scalar deflection ``w`` discretised with ``ElementTriMorley`` or an Argyris
-element. Curvatures (DESIGN §2, face-up positive): ``κ_xx = w_,xx``, ``κ_yy = w_,yy``,
+element. Curvatures (docs/theory.md §1, face-up positive): ``κ_xx = w_,xx``, ``κ_yy = w_,yy``,
 ``κ_xy = w_,xy`` (tensor component). Bending energy density of the linear part
 ``½ B1 κ_xx² + ½ B2 κ_yy² + D_t κ_xy²``; the warp law (material.warp) acts on
 ``κ_xx``, the weft law on ``κ_yy`` and the twist is linear with rigidity
@@ -68,9 +68,9 @@ class PlateInputError(ValueError):
 
 
 def _make_element(element, constraints):
-    """A fresh element instance (DESIGN §4 trap b: the Argyris Vandermonde is cached per instance).
+    """A fresh element instance (the Argyris element caches its inverse Vandermonde per instance).
 
-    "argyris" is helper C's element-local Argyris with the node frames that
+    "argyris" is the element-local Argyris (:mod:`drape.argyris`) with the node frames that
     the boundary conditions need (curved or tilted clamped edges, e.g. the Cusick disc).
     """
     if isinstance(element, skfem.Element):
@@ -167,7 +167,7 @@ class KirchhoffPlate:
         Provides ``areal_mass`` (kg/m²), ``warp`` and ``weft``
         (:class:`constitutive.law.BendingLaw`) and ``twist_rigidity`` (N·m).
     element : {"morley", "argyris"} or skfem.Element
-        Plate element; "argyris" uses helper C's element-local Argyris when present.
+        Plate element; "argyris" uses the element-local Argyris of :mod:`drape.argyris`.
     supports : dict, optional
         ``{boundary_name: "clamped" | "simply_supported" | "free"}``.
     rotations : dict, optional
@@ -293,7 +293,7 @@ class KirchhoffPlate:
         return np.asarray(boundaries[name])
 
     def _plate_constraints(self, supports, rotations):
-        """Validate the boundary conditions and work out their dofs (helper C's drape.boundary)."""
+        """Validate the boundary conditions and work out their dofs (:mod:`drape.boundary`)."""
         from .boundary import plate_constraints
 
         conditions = {}

@@ -16,7 +16,7 @@ a force per unit length on an edge and a follower end moment per unit width.
 
 Assembly works on the basis arrays with batched ``einsum``/``matmul`` and a
 precomputed sparsity pattern (:class:`drape.assembly.SparsityPattern`), not on
-per-basis-pair form calls (DESIGN.md §4, trap d); K, C and M share one CSR
+per-basis-pair form calls (docs/theory.md §4); K, C and M share one CSR
 pattern.
 
 Examples
@@ -138,7 +138,7 @@ def membrane_matrix(material):
 
     Uses ``material.membrane_stiffness()`` if the material provides it, else the
     attributes ``E11, E22, nu12, G12`` (N/m; FabricMaterial), else the project default
-    E1 = E2 = 1.0e4 N/m, ν12 = 0, G12 = 50 N/m (CONVENTIONS.md).
+    E1 = E2 = 1.0e4 N/m, ν12 = 0, G12 = 50 N/m (docs/theory.md §1).
 
     >>> membrane_matrix(object()).diagonal().tolist()
     [10000.0, 10000.0, 50.0]
@@ -301,7 +301,7 @@ class KirchhoffLoveShell:
 
     # ------------------------------------------------------------------ setup
     def _clamped_dofs(self, names):
-        """Clamped dofs of all three components (drape.boundary: u_nn left free, trap c)."""
+        """Clamped dofs of all three components (drape.boundary: u_nn left free, docs/theory.md §4)."""
         if not names:
             return np.zeros(0, dtype=np.int64)
         from drape.boundary import clamped_dofs

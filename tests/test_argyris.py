@@ -1,4 +1,5 @@
-"""Element-local Argyris triangle (DESIGN.md §4 traps a and b)."""
+"""Element-local Argyris triangle: conditioning on small and offset elements, one matrix per mesh
+(docs/theory.md §4)."""
 import numpy as np
 import pytest
 from skfem import (Basis, ElementTriArgyris, ElementVector, InteriorFacetBasis,
@@ -21,8 +22,8 @@ def constant_errors(basis):
 
 @pytest.mark.parametrize("offset", [0.0, 10.0])
 def test_constant_and_its_hessian_on_fine_mesh(offset):
-    # issue 3: constant function and its Hessian to <= 1e-10 on a 64x64 mesh of
-    # the unit square and of [10, 11]^2 (stock element: 5e-5 / O(1), DESIGN §4)
+    # constant function and its Hessian to <= 1e-10 on a 64x64 mesh of the unit square and
+    # of [10, 11]^2 (the stock element: 5e-5 / O(1), docs/theory.md §4)
     basis = Basis(unit_square(64, offset), ElementTriArgyrisLocal(), intorder=4)
     err_value, err_grad, err_hess = constant_errors(basis)
     assert err_value <= 1e-10
@@ -110,7 +111,7 @@ def test_c1_continuity_across_interior_edges():
 
 
 def test_one_element_instance_on_two_meshes():
-    # trap b: the stock element caches the first mesh's Vandermonde matrix
+    # the stock element caches the first mesh's Vandermonde matrix
     element = ElementTriArgyrisLocal()
     for offset in (0.0, 10.0, 0.0):
         basis = Basis(unit_square(4, offset), element, intorder=4)

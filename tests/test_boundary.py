@@ -53,7 +53,7 @@ def test_clamped_square_plate_and_trap_c(n):
     # clamped plates do not depend on nu when the clamping is exact
     w0 = (centre @ solve_plate(basis, fixed, nu=0.0))[0]
     assert abs(w0 / w - 1) < 1e-9
-    # trap c: fixing the normal second derivative as well is measurably stiffer
+    # fixing the normal second derivative as well is measurably stiffer
     over = np.union1d(fixed, all_second_derivatives(basis, SIDES))
     w_over = (centre @ solve_plate(basis, over))[0]
     assert w_over < 0.99 * w

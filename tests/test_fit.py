@@ -22,10 +22,10 @@ def full_fits():
 
 @pytest.mark.parametrize("name", DATASET_NAMES)
 def test_fit_beats_thesis_parameters(full_fits, name):
-    # Must-show: same harness (profile, T, 1 ms samples, state-form friction), the global fit's
-    # residual 4.17 is below that of the thesis's published full-model parameters
-    # (Tables 4.4/4.7/4.10/4.13).  Measured at T = 0.5 s: fitted 0.188 / 0.0267 / 0.0688 /
-    # 0.0173 against 0.431 / 0.0572 / 0.237 / 0.0501; we require at least a 1.5x improvement.
+    # same harness (profile, T, 1 ms samples, state-form friction): the global fit's residual
+    # 4.17 is below that of the thesis's published full-model parameters (Tables 4.4/4.7/4.10/
+    # 4.13). At T = 0.5 s the fits give 0.188 / 0.0267 / 0.0688 / 0.0173 against 0.431 / 0.0572 /
+    # 0.237 / 0.0501; at least a 1.5x improvement is required.
     r = full_fits[name]
     own = evaluate(thesis_law(name), load_dataset(name).sample(T))
     assert r.residual < own / 1.5

@@ -9,7 +9,7 @@ from constitutive.law import BendingLaw
 from constitutive.material import FabricMaterial, MaterialError, available_materials, load_material, material_from_kes
 from constitutive.units import KES_UNITS, factor, to_kes, to_si, ureg
 
-GF = 9.80665e-3      # N (DESIGN §2)
+GF = 9.80665e-3      # N: one gram-force (docs/theory.md §1)
 
 
 def test_unit_factors_are_design_values():

@@ -248,7 +248,7 @@ def test_library_fabric_drape_strip_converges_and_friction_stiffens():
 
 # --------------------------------------------------------------------------- conventions, input
 def test_sign_convention_positive_curvature():
-    """κ_xx = +w_,xx (DESIGN §2, face-up positive): a sagging cantilever has κ_xx < 0 and M_xx < 0;
+    """κ_xx = +w_,xx (docs/theory.md §1, face-up positive): a sagging cantilever has κ_xx < 0 and M_xx < 0;
     an imposed positive κ on a strip gives the trough w = κ x (x − L)/2 (midspan down, ends up)."""
     plate = KirchhoffPlate(strip(8, 2), material(), supports={"left": "clamped"})
     s = quasi_static(plate, [1.0])

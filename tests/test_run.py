@@ -354,7 +354,7 @@ def test_cantilever_runs_short_from_the_command_line(tmp_path):
 
 
 def test_kes_summary_material_uses_the_material_library_units():
-    """[material.kes] takes the KES units of cases/materials (DESIGN §2): W 0.0125 gf/cm² is 0.125 kg/m²,
+    """[material.kes] takes the KES units of cases/materials (docs/theory.md §1): W 0.0125 gf/cm² is 0.125 kg/m²,
     0.030 cm is 3e-4 m; B in gf·cm²/cm (× 9.80665e-5 N·m) comes back from the built law's simulated loop."""
     case = load_case(Path(__file__).parents[1] / "cases" / "cusick_kes.toml")
     material = runner.build_material(case)

@@ -27,7 +27,7 @@ def _tip(model, u):
 
 @pytest.mark.parametrize("strain_degree, stabilization", ASSUMED_STRAINS)
 def test_rollup_under_follower_end_moment(strain_degree, stabilization):
-    """Roll-up (DESIGN §5): θ = ML/B, u = −L(1 − sin θ/θ), w = L(1 − cos θ)/θ.
+    """Roll-up (elastica, docs/theory.md §5): θ = ML/B, u = −L(1 − sin θ/θ), w = L(1 − cos θ)/θ.
 
     Tip within 0.5 % of L at M/M_max = 0.5 and 1.0 (M_max = 2πB/L closes a circle).
     Membrane stiffness E h L²/B = 1e6 (nearly inextensible); also with the assumed strains.
@@ -188,7 +188,7 @@ def test_energy_balance_with_friction_viscosity_and_damping():
 def test_small_amplitude_vibration_frequency():
     """Free vibration from a small tip-loaded shape (no gravity, no damping): the period
     of the tip motion equals the Euler–Bernoulli cantilever's 2π/ω1,
-    ω1 = 1.8751² / L² √(B/ρ_A) (DESIGN §5), within 1 % (Newmark period error ~0.1 %)."""
+    ω1 = 1.8751² / L² √(B/ρ_A) (docs/theory.md §5), within 1 % (Newmark period error ~0.1 %)."""
     from drape.newmark import NewmarkState, integrate
     L, b, B, rho = 1.0, 0.1, 1.0, 1.0
     shell = KirchhoffLoveShell(_strip(L, b, 8), ElasticMaterial(bending=B, membrane=1e6,
