@@ -44,6 +44,12 @@ class StructuralModel(Protocol):
     def commit(self, u, v, a) -> None:
         """Accept a converged state (law states, work ledgers)."""
 
+    def state_dict(self) -> dict:
+        """What :meth:`commit` keeps, as named arrays (a run's checkpoint saves it)."""
+
+    def load_state_dict(self, state: dict) -> None:
+        """Restore a :meth:`state_dict` of a model built from the same case."""
+
     # ------------------------------------------------------------------ results
     def energies(self, u, v, t: float | None = None) -> dict:
         """Kinetic, strain, external potential, friction and damping work [J] and their total.

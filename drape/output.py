@@ -32,7 +32,7 @@ from typing import Any, Mapping
 import meshio
 import numpy as np
 
-__all__ = ["OutputSchedule", "OutputWriter", "split_fields", "flat_fields", "read_pvd"]
+__all__ = ["OutputSchedule", "OutputWriter", "split_fields", "flat_fields", "read_pvd", "read_history"]
 
 _POINT_HINTS = ("displacement", "velocity", "acceleration")
 
@@ -141,6 +141,14 @@ class OutputSchedule:
         self._next_t = -math.inf
         self._last_step = None
 
+    def state_dict(self) -> dict:
+        """Where the schedule stands (the next output time, the last step written)."""
+        return {"next_t": self._next_t, "last_step": self._last_step}
+
+    def load_state_dict(self, state: dict) -> None:
+        """Continue from a :meth:`state_dict`."""
+        self._next_t, self._last_step = float(state["next_t"]), state["last_step"]
+
     def due(self, step: int, t: float, force: bool = False) -> bool:
         if step == self._last_step:
             return False  # already written (e.g. forced write of the last step)
@@ -168,9 +176,13 @@ class OutputWriter:
         Reference configuration (z = 0 plane); displacement is stored as point data.
     fields : list of str, optional
         Field names to keep (all if None); unknown names raise ``ValueError``.
+    keep : (int, int), optional
+        Continue the series already in ``directory`` (a resumed run): keep its first
+        ``keep[0]`` VTU steps and ``keep[1]`` rows of history.csv, drop what came after.
     """
 
-    def __init__(self, directory, name: str, mesh, fields: list[str] | None = None):
+    def __init__(self, directory, name: str, mesh, fields: list[str] | None = None,
+                 keep: tuple[int, int] | None = None):
         self.directory = Path(directory)
         self.directory.mkdir(parents=True, exist_ok=True)
         self.name = name
@@ -183,11 +195,38 @@ class OutputWriter:
         self._history_writer = None
         self.history_path = self.directory / "history.csv"
         self.pvd_path = self.directory / f"{name}.pvd"
+        if keep is not None:
+            self._keep(*keep)
+            return
         # a new run in an old directory: drop the old series so that no stale step is left
         for old in self.directory.glob(f"{name}_[0-9][0-9][0-9][0-9].vtu"):
             old.unlink()
         for old in (self.pvd_path, self.history_path, self.directory / "summary.json"):
             old.unlink(missing_ok=True)
+
+    def _keep(self, n_steps: int, n_rows: int) -> None:
+        listed = read_pvd(self.pvd_path) if self.pvd_path.exists() else []
+        with open(self.history_path, newline="") as fh:
+            lines = list(csv.reader(fh))
+        if len(listed) < n_steps or len(lines) - 1 < n_rows:
+            raise ValueError(f"{self.directory}: {len(listed)} VTU steps and {len(lines) - 1} "
+                             f"history rows, fewer than the {n_steps} and {n_rows} to continue from")
+        self.datasets = [(t, path.name) for t, path in listed[:n_steps]]
+        kept = {filename for _, filename in self.datasets}
+        for old in self.directory.glob(f"{self.name}_[0-9][0-9][0-9][0-9].vtu"):
+            if old.name not in kept:
+                old.unlink()
+        self._write_pvd()
+
+        def write_rows(path):
+            with open(path, "w", newline="") as fh:
+                csv.writer(fh).writerows(lines[:n_rows + 1])
+
+        _atomic_write(self.history_path, write_rows)
+        self._history_file = open(self.history_path, "a", newline="")
+        self._history_writer = csv.DictWriter(self._history_file, fieldnames=lines[0],
+                                              extrasaction="ignore", restval="")
+        (self.directory / "summary.json").unlink(missing_ok=True)
 
     @property
     def n_points(self) -> int:
@@ -287,6 +326,18 @@ def _json_default(obj):
     if isinstance(obj, Path):
         return str(obj)
     raise TypeError(f"cannot write {type(obj).__name__} to summary.json")
+
+
+def read_history(path) -> list[dict]:
+    """Rows of a ``history.csv``, numbers as float (int for whole numbers), blanks as None."""
+    def value(text):
+        if text == "":
+            return None
+        x = float(text)
+        return int(x) if x.is_integer() and "." not in text and "e" not in text.lower() else x
+
+    with open(path, newline="") as fh:
+        return [{k: value(v) for k, v in row.items()} for row in csv.DictReader(fh)]
 
 
 def read_pvd(path) -> list[tuple[float, Path]]:

@@ -10,12 +10,15 @@ run that stops early (no convergence, Ctrl-C) leaves everything up to its last c
 After the run the case's analysis (:mod:`drape.analyses`) adds its results to ``summary.json``.
 
 Exit codes: 0 completed or settled, 1 bad input (case file, material, mesh), 2 the integrator
-failed to converge (``summary.json`` has ``status = "failed"`` and the reason), 130 interrupted.
-Any other error during the integration also leaves ``summary.json`` (``status = "error"``).
+failed to converge (``summary.json`` has ``status = "failed"`` and the reason), 130 interrupted
+(Ctrl-C), 143 terminated (SIGTERM, handled like Ctrl-C). Any other error during the integration
+also leaves ``summary.json`` (``status = "error"``). Every converged step is checkpointed
+(:mod:`drape.checkpoint`); ``python -m drape.run --resume OUTDIR`` continues a stopped run.
 """
 from __future__ import annotations
 
 import argparse
+import json
 import logging
 import math
 import sys
@@ -27,19 +30,20 @@ import numpy as np
 from drape.analyses import ANALYSES, RunContext
 from drape.build import Parts, RunInputError, build, build_material, build_mesh, initial_fields
 from drape.case import Case, CaseError, describe_schema, dump_case, load_case
-from drape.output import OutputSchedule, OutputWriter, flat_fields
-from drape.probes import DisplacementProbe
-from drape.settling import Settling, settling_threshold
+from drape.checkpoint import Checkpoint, read_checkpoint
+from drape.output import OutputWriter, read_history
+from drape.recorder import Recorder, progress_bar
+from drape.termination import EXIT_TERMINATED, Terminated, sigterm_raises
 from drape.timeline import hit_times, pseudo_times, time_phases
 
-__all__ = ["run_case", "main", "build", "build_mesh", "build_material", "initial_fields", "Parts",
+__all__ = ["run_case", "resume_run", "main", "build", "build_mesh", "build_material", "initial_fields", "Parts",
            "RunInputError"]
 
 log = logging.getLogger("drape.run")
 
 
-def _setup_logging(out_dir: Path) -> logging.Handler:
-    handler = logging.FileHandler(out_dir / "run.log", mode="w")
+def _setup_logging(out_dir: Path, mode: str = "w") -> logging.Handler:
+    handler = logging.FileHandler(out_dir / "run.log", mode=mode)
     handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(name)s: %(message)s"))
     root = logging.getLogger("drape")
     root.setLevel(logging.INFO)
@@ -48,11 +52,12 @@ def _setup_logging(out_dir: Path) -> logging.Handler:
 
 
 def run_case(case: Case, out_dir, quiet: bool = False, parts: Parts | None = None,
-             source: str = "") -> dict:
+             source: str = "", resume: Checkpoint | None = None) -> dict:
     """Run ``case`` writing into ``out_dir``; return the summary (also in ``summary.json``).
 
     ``parts`` replaces the built mesh/material/model (tests, scripts that build their own);
-    ``source`` (where the case came from) heads ``case.resolved.toml`` as a comment.
+    ``source`` (where the case came from) heads ``case.resolved.toml`` as a comment;
+    ``resume`` continues the run in ``out_dir`` from its checkpoint (see :func:`resume_run`).
 
     Raises
     ------
@@ -61,16 +66,17 @@ def run_case(case: Case, out_dir, quiet: bool = False, parts: Parts | None = Non
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    handler = _setup_logging(out_dir)
+    handler = _setup_logging(out_dir, "w" if resume is None else "a")
     try:
         header = "# Resolved case: every key with its value (SI units), as run.\n"
         if source:
             header += "".join(f"# {line}\n" for line in source.splitlines())
-        (out_dir / "case.resolved.toml").write_text(header + dump_case(case))
+        if resume is None:
+            (out_dir / "case.resolved.toml").write_text(header + dump_case(case))
         log.info("case %s: %s", case.case.name, case.case.description)
         wall0 = time.perf_counter()
         parts = build(case) if parts is None else parts
-        return _simulate(case, parts, out_dir, quiet, wall0)
+        return _simulate(case, parts, out_dir, quiet, wall0, resume)
     except Exception:
         log.exception("run aborted")
         raise
@@ -79,96 +85,70 @@ def run_case(case: Case, out_dir, quiet: bool = False, parts: Parts | None = Non
         handler.close()
 
 
-class _Recorder:
-    """The integrator's ``on_step``: history row, VTU when due, progress, settling check."""
+def resume_run(out_dir, quiet: bool = False) -> dict:
+    """Continue the run in ``out_dir`` from its checkpoint (``python -m drape.run --resume``).
 
-    def __init__(self, case: Case, ctx: RunContext, writer: OutputWriter, bar):
-        self.case, self.ctx, self.writer, self.bar = case, ctx, writer, bar
-        self.schedule = OutputSchedule(case.output.every, case.output.every_dt)
-        self.settled = Settling(case, settling_threshold(case, ctx.mesh, ctx.material))
-        self.analysis = ANALYSES[case.case.analysis]
-        self.probe = DisplacementProbe(case, ctx.mesh)
-        self.step = 0
-        self.last = None
-        self.last_written = None
-        self.stop_reason = None
-
-    def __call__(self, state, info=None) -> bool:
-        model = self.ctx.model
-        fields = flat_fields(model.fields(state.u, state.v, state.a), self.ctx.mesh)
-        energies = {k: float(v) for k, v in model.energies(state.u, state.v, t=state.t).items()}
-        row = {"step": self.step, "t": float(state.t),
-               "dt": float(getattr(info, "dt", 0.0)),
-               "iterations": int(getattr(info, "iterations", 0)),
-               "cuts": int(getattr(info, "cuts", 0))}
-        row.update(energies)
-        row.update(self.probe(fields["displacement"]))
-        if self.analysis.probe is not None:
-            row.update(self.analysis.probe(self.ctx, fields))
-        self.ctx.history.append(row)
-        self.writer.append_history(row)
-        if info is not None and getattr(info, "cuts", 0):
-            log.info("t = %.6g s: step size cut to dt = %.3g s", state.t, info.dt)
-        if self.schedule.due(self.step, state.t):
-            self.writer.write_step(state.t, fields)
-            self.last_written = self.step
-        self.last = state
-        self.step += 1
-        self.bar.update(max(0.0, min(float(state.t), self.bar.total) - self.bar.n))
-        if self.settled(state.t, energies.get("kinetic", math.inf)):
-            self.stop_reason = (
-                f"kinetic energy {energies['kinetic']:.3e} J below "
-                f"{self.settled.threshold:.3e} J for {self.settled.needed} steps at t = {state.t:g} s")
-            return True
-        return False
-
-    def finish(self) -> None:
-        """Write the last converged state if the schedule skipped it."""
-        if self.last is not None and self.last_written != self.step - 1:
-            s = self.last
-            self.writer.write_step(s.t, flat_fields(self.ctx.model.fields(s.u, s.v, s.a), self.ctx.mesh))
-            self.last_written = self.step - 1
+    The case is read back from ``case.resolved.toml``; the output written after the checkpoint
+    is dropped, so the continued run writes the same series an unstopped run would have.
+    """
+    out_dir = Path(out_dir)
+    done = out_dir / "summary.json"
+    summary = json.loads(done.read_text()) if done.exists() else {}
+    if summary.get("status") in ("completed", "settled"):
+        return summary                            # nothing left to run
+    checkpoint = read_checkpoint(out_dir)
+    return run_case(load_case(out_dir / "case.resolved.toml"), out_dir, quiet, resume=checkpoint)
 
 
-def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float) -> dict:
+def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float,
+              resume: Checkpoint | None) -> dict:
     from drape import newmark
 
     ctx = RunContext(case, parts.mesh, parts.material, parts.model, out_dir)
     model, solver = parts.model, case.solver
     status, reason = "completed", f"reached t_end = {solver.t_end:g} s"
     error = None
-    with OutputWriter(out_dir, case.case.name, parts.mesh, fields=case.output.fields) as writer:
-        bar = _progress(solver.t_end, quiet)
-        rec = _Recorder(case, ctx, writer, bar)
-        u0, v0 = initial_fields(case, model)
-        state0 = newmark.initial_state(model, u0, v0)
-        rec(state0)
+    keep = None if resume is None else (resume.run["datasets"], resume.run["step"])
+    with OutputWriter(out_dir, case.case.name, parts.mesh, fields=case.output.fields,
+                      keep=keep) as writer:
+        bar = progress_bar(solver.t_end, quiet)
+        rec = Recorder(case, ctx, writer, bar, wall0)
+        if resume is None:
+            state0 = newmark.initial_state(model, *initial_fields(case, model))
+            rec(state0)
+        else:
+            state0 = rec.restore(resume, read_history(writer.history_path))
+            log.info("resumed at t = %.6g s (step %d)", state0.t, rec.step - 1)
+        t_eps = 1e-12 * max(solver.t_end, solver.dt)
         newton = dict(rtol=solver.rtol, atol=solver.atol, du_rtol=solver.du_rtol,
                       du_atol=solver.du_atol, max_iter=solver.max_iter)
         try:
             if solver.quasi_static:
                 times = np.union1d(pseudo_times(solver.dt, solver.t_end), hit_times(case))
-                newmark.quasi_static(model, np.ones_like(times), times=times, state=state0,
-                                     max_cuts=solver.max_cuts, on_step=rec, **newton)
+                times = times[times > state0.t + t_eps]
+                if times.size:
+                    newmark.quasi_static(model, np.ones_like(times), times=times, state=state0,
+                                         max_cuts=solver.max_cuts, on_step=rec, **newton)
             else:
                 state = state0
                 for t_stop, dt_max, settling in time_phases(case):
+                    if t_stop <= state.t + t_eps or rec.stop_reason is not None:
+                        continue
                     # the settling phase starts at dt and lands on no output marks: its step grows
                     state = newmark.integrate(model, t_stop, solver.dt, state=state, dt_max=dt_max,
                                               beta=solver.newmark_beta, gamma=solver.newmark_gamma,
                                               alpha_hht=solver.alpha_hht, max_cuts=solver.max_cuts,
                                               hit_times=() if settling else hit_times(case),
                                               on_step=rec, **newton)
-                    if rec.stop_reason is not None:
-                        break
             if rec.stop_reason is not None:
                 status, reason = "settled", rec.stop_reason
         except newmark.ConvergenceError as exc:
             status, reason = "failed", f"no convergence: {exc}"
             log.error("stopped: %s", exc)
-        except KeyboardInterrupt:
-            status, reason = "interrupted", "interrupted by the user (Ctrl-C)"
-            log.warning("interrupted")
+        except KeyboardInterrupt as exc:
+            status, reason = (("terminated", "terminated by SIGTERM") if isinstance(exc, Terminated)
+                              else ("interrupted", "interrupted by the user (Ctrl-C)"))
+            log.warning("%s; continue with python -m drape.run --resume %s", reason, out_dir)
         except Exception as exc:  # keep what was written, say why, then let it propagate
             status, reason = "error", f"{type(exc).__name__}: {exc}"
             error = exc
@@ -193,7 +173,7 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
                 log.exception("analysis %s failed", analysis.name)
                 summary["analysis"] = {"name": analysis.name,
                                        "error": f"{type(exc).__name__}: {exc}"}
-        wall = time.perf_counter() - wall0
+        wall = time.perf_counter() - rec.wall0      # a resumed run counts its earlier time too
         summary["wall_time_s"] = wall
         summary["simulated_per_wall"] = float(rec.last.t) / wall if wall > 0 else None
         writer.write_summary(summary)
@@ -201,15 +181,6 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
     if error is not None:
         raise error
     return summary
-
-
-def _progress(total: float, quiet: bool):
-    from tqdm import tqdm
-
-    return tqdm(total=total, disable=quiet, unit="s", unit_scale=False, desc="simulated time",
-                mininterval=0.5,
-                bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]",
-                file=sys.stderr, leave=False)
 
 
 # --------------------------------------------------------------------------- CLI
@@ -223,7 +194,8 @@ outputs in DIR: <name>_NNNN.vtu + <name>.pvd (ParaView, pyvista), history.csv,
 summary.json, case.resolved.toml, run.log
 
 exit codes: 0 completed or settled, 1 bad input, 2 no convergence (every converged
-step stays on disk; summary.json says why), 130 interrupted"""
+step stays on disk; summary.json says why), 130 interrupted (Ctrl-C), 143 terminated
+(SIGTERM); continue a stopped run with --resume OUTDIR"""
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -232,6 +204,9 @@ def _parser() -> argparse.ArgumentParser:
         description="Run a fabric bending / drape case file (TOML) and write VTU/PVD, "
                     "history.csv and summary.json.")
     p.add_argument("case", nargs="?", help="case file (TOML)")
+    p.add_argument("--resume", metavar="OUTDIR",
+                   help="continue the stopped run in OUTDIR from its checkpoint (its last "
+                        "converged step)")
     p.add_argument("--out", metavar="DIR",
                    help="output directory (default: out/<case name>)")
     p.add_argument("--set", metavar="KEY=VALUE", action="append", default=[], dest="overrides",
@@ -255,8 +230,10 @@ def main(argv: list[str] | None = None) -> int:
     if args.help_case:
         print(describe_schema())
         return 0
+    if args.resume is not None:
+        return _resume(args)
     if args.case is None:
-        parser.error("the case file is required (or --help-case)")
+        parser.error("the case file is required (or --help-case, --resume OUTDIR)")
     try:
         case = load_case(args.case, args.overrides)
         if args.check:
@@ -269,24 +246,45 @@ def main(argv: list[str] | None = None) -> int:
             return 0
         out = Path(args.out) if args.out else Path("out") / case.case.name
         source = f"from {args.case}" + "".join(f" --set {o}" for o in args.overrides)
-        summary = run_case(case, out, quiet=args.quiet, source=source)
+        with sigterm_raises():
+            summary = run_case(case, out, quiet=args.quiet, source=source)
     except (CaseError, RunInputError) as exc:
         print(f"error in {args.case}:\n  " + str(exc).replace("\n", "\n  "), file=sys.stderr)
         return 1
     except ValueError as exc:  # bad input caught by a lower layer (material, mesh, model)
         print(f"error in {args.case}: {exc}", file=sys.stderr)
         return 1
+    return _report(summary, out, args.quiet)
+
+
+def _resume(args) -> int:
+    if args.case is not None or args.overrides or args.out or args.check:
+        print("error: --resume OUTDIR reads the case from OUTDIR/case.resolved.toml: give no case "
+              "file, --set, --out or --check with it", file=sys.stderr)
+        return 1
+    try:
+        with sigterm_raises():
+            summary = resume_run(args.resume, quiet=args.quiet)
+    except (FileNotFoundError, CaseError, ValueError) as exc:
+        print(f"error: cannot resume {args.resume}: {exc}", file=sys.stderr)
+        return 1
+    return _report(summary, Path(args.resume), args.quiet)
+
+
+def _report(summary: dict, out: Path, quiet: bool) -> int:
+    """Print the outcome of a run; return its exit code."""
+    name = summary["case"]
     if summary["status"] == "failed":
-        print(f"{case.case.name}: FAILED at t = {summary['t_final']:g} s: {summary['reason']}\n"
+        print(f"{name}: FAILED at t = {summary['t_final']:g} s: {summary['reason']}\n"
               f"  every converged step is kept in {out} ({summary['vtu_files']} VTU files, "
               f"{summary['pvd']})", file=sys.stderr)
         return 2
-    if summary["status"] == "interrupted":
-        print(f"{case.case.name}: interrupted at t = {summary['t_final']:g} s; output kept in {out}",
-              file=sys.stderr)
-        return 130
-    if not args.quiet:
-        print(f"{case.case.name}: {summary['status']} ({summary['reason']}); "
+    if summary["status"] in ("interrupted", "terminated"):
+        print(f"{name}: {summary['status']} at t = {summary['t_final']:g} s; output kept in {out}; "
+              f"continue with: python -m drape.run --resume {out}", file=sys.stderr)
+        return 130 if summary["status"] == "interrupted" else EXIT_TERMINATED
+    if not quiet:
+        print(f"{name}: {summary['status']} ({summary['reason']}); "
               f"{summary['steps']} steps in {summary['wall_time_s']:.1f} s; output in {out}")
         if "analysis" in summary:
             for key, value in summary["analysis"].items():

@@ -19,8 +19,9 @@ product of the values given for each key.
 ``DIR/results.csv`` gets one row per finished run as soon as it finishes: the inputs, the
 status, the drape coefficient and nodes (Cusick runs), the settling time, the wall time and,
 for a run that did not finish well, the one-line reason. A run that fails does not stop the
-others. ``--resume`` keeps the rows already finished and runs only the others; the sweep's
-definition is kept in ``DIR/sweep.json``, so ``--resume --out DIR`` alone continues it.
+others. ``--resume`` keeps the rows already finished and runs only the others (a run stopped midway
+continues from its checkpoint); the sweep's definition is kept in ``DIR/sweep.json``, so
+``--resume --out DIR`` alone continues it.
 
 Statuses: those of :mod:`drape.run` (completed, settled, failed, interrupted, terminated,
 error), ``invalid`` (the row's case does not validate or cannot be built) and ``lost`` (the
@@ -36,7 +37,6 @@ import json
 import math
 import os
 import re
-import signal
 import sys
 import time
 import uuid
@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from drape.case import CaseError
+from drape.termination import EXIT_TERMINATED, Terminated, sigterm_raises
 
 __all__ = ["SweepRow", "SweepError", "read_table", "grid_rows", "run_row", "run_sweep",
            "RESULT_COLUMNS", "read_results", "main"]
@@ -66,10 +67,6 @@ _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
 
 class SweepError(ValueError):
     """A run table, grid or sweep folder breaks a rule (the message names it)."""
-
-
-class SweepTerminated(KeyboardInterrupt):
-    """SIGTERM received by the sweep's client."""
 
 
 @dataclass(frozen=True)
@@ -193,16 +190,31 @@ def _worker_address() -> str:
         return ""
 
 
-def run_row(case_path: str, overrides: list[str], run_dir: str) -> dict:
+def _continues(case, run_dir: Path) -> bool:
+    """True when ``run_dir`` holds a stopped run of exactly ``case`` with a checkpoint."""
+    from drape.case import dump_case
+    from drape.checkpoint import CHECKPOINT
+
+    resolved = run_dir / "case.resolved.toml"
+    if not (resolved.exists() and (run_dir / CHECKPOINT).exists()):
+        return False
+    body = "".join(line for line in resolved.read_text().splitlines(keepends=True)
+                   if not line.startswith("#"))
+    return body == dump_case(case)
+
+
+def run_row(case_path: str, overrides: list[str], run_dir: str, resume: bool = False) -> dict:
     """Run one row: an ordinary case run of ``case_path`` with ``overrides`` in ``run_dir``.
 
-    Never raises for a bad row or a failed run: the returned result columns say what happened
-    (this is the Dask task, and one run must not stop the others).
+    With ``resume``, a run of the same case stopped in ``run_dir`` continues from its
+    checkpoint. Never raises for a bad row or a failed run: the returned result columns say
+    what happened (this is the Dask task, and one run must not stop the others).
     """
     for key, value in SINGLE_THREADED.items():
         os.environ.setdefault(key, value)
     from drape.build import build
     from drape.case import load_case
+    from drape.checkpoint import read_checkpoint
     from drape.run import run_case
 
     wall0 = time.perf_counter()
@@ -217,7 +229,9 @@ def run_row(case_path: str, overrides: list[str], run_dir: str) -> dict:
         return {**out, "status": "error", "reason": _one_line(exc)}
     source = f"from {case_path}" + "".join(f" --set {o}" for o in overrides)
     try:
-        summary = run_case(case, Path(run_dir), quiet=True, parts=parts, source=source)
+        checkpoint = read_checkpoint(run_dir) if resume and _continues(case, Path(run_dir)) else None
+        summary = run_case(case, Path(run_dir), quiet=True, parts=parts, source=source,
+                           resume=checkpoint)
     except Exception as exc:
         return {**out, "status": "error", "reason": _one_line(exc),
                 "wall_time_s": time.perf_counter() - wall0}
@@ -312,10 +326,6 @@ def _finished(out: Path, rows: list[SweepRow]) -> list[dict]:
     return keep
 
 
-def _on_sigterm(signum, frame):
-    raise SweepTerminated()
-
-
 def run_sweep(case_path, rows: list[SweepRow], out, *, overrides: list[str] | None = None,
               scheduler: str | None = None, workers: int | None = None, resume: bool = False,
               quiet: bool = False) -> list[dict]:
@@ -347,8 +357,8 @@ def run_sweep(case_path, rows: list[SweepRow], out, *, overrides: list[str] | No
         tag = uuid.uuid4().hex[:8]
         for row in todo:
             fut = client.submit(run_row, case_path, overrides + row.overrides(),
-                                str(out / "runs" / row.name), key=f"drape-{row.name}-{tag}",
-                                pure=False)
+                                str(out / "runs" / row.name), resume,
+                                key=f"drape-{row.name}-{tag}", pure=False)
             futures[fut] = row
         for fut in as_completed(list(futures)):
             row = futures[fut]
@@ -443,20 +453,17 @@ def main(argv: list[str] | None = None) -> int:
             case_path, overrides = args.case, args.overrides
             if not Path(case_path).exists():
                 raise SweepError(f"case file {case_path!r} does not exist")
-        previous = signal.signal(signal.SIGTERM, _on_sigterm)
-        try:
+        with sigterm_raises():
             records = run_sweep(case_path, rows, out, overrides=overrides,
                                 scheduler=args.scheduler, workers=args.workers,
                                 resume=args.resume, quiet=args.quiet)
-        finally:
-            signal.signal(signal.SIGTERM, previous)
     except SweepError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
-    except SweepTerminated:
+    except Terminated:
         print(f"sweep terminated; finished runs are in {out / 'results.csv'} "
               f"(continue with --resume)", file=sys.stderr)
-        return 143
+        return EXIT_TERMINATED
     except KeyboardInterrupt:
         print(f"sweep interrupted; finished runs are in {out / 'results.csv'} "
               f"(continue with --resume)", file=sys.stderr)

@@ -55,6 +55,12 @@ class VertexOscillators:
     def commit(self, u, v, a):
         self.commits += 1
 
+    def state_dict(self):
+        return {"commits": np.array(self.commits)}
+
+    def load_state_dict(self, state):
+        self.commits = int(state["commits"])
+
     def energies(self, u, v, t=None):
         return {"kinetic": 0.5 * self.m * float(v @ v), "strain": 0.5 * self.k * float(u @ u)}
 

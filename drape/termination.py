@@ -1,0 +1,42 @@
+"""SIGTERM handled like Ctrl-C: a batch scheduler's kill stops a run the way a user's does.
+
+Inside :func:`sigterm_raises`, SIGTERM raises :class:`Terminated`, a ``KeyboardInterrupt``, so
+every ``except KeyboardInterrupt`` that keeps a run's output valid also keeps it on SIGTERM.
+Exit code :data:`EXIT_TERMINATED` = 143 = 128 + 15, the shell's code for a process ended by
+SIGTERM.
+"""
+from __future__ import annotations
+
+import signal
+import threading
+from contextlib import contextmanager
+
+__all__ = ["Terminated", "EXIT_TERMINATED", "sigterm_raises"]
+
+#: Exit code of a run or sweep stopped by SIGTERM (128 + signal number, as a shell reports it).
+EXIT_TERMINATED = 128 + int(signal.SIGTERM)
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM received (raised in the main thread, like Ctrl-C's KeyboardInterrupt)."""
+
+
+def _raise(signum, frame):
+    raise Terminated()
+
+
+@contextmanager
+def sigterm_raises():
+    """Within the block, SIGTERM raises :class:`Terminated` in the main thread.
+
+    Signal handlers can only be set from the main thread; elsewhere (a run inside a Dask
+    worker's thread) the block runs unchanged and the worker's own handling applies.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _raise)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
