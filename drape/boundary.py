@@ -48,9 +48,11 @@ from numpy import ndarray
 from skfem import ElementTriMorley, ElementVector
 from skfem.element import ElementTriArgyris
 
+from constitutive.conventions import CURVATURE_SIGN
+
 from .argyris import ElementTriArgyrisLocal, facet_normals, interpolate, same_mesh
 
-__all__ = ["CONDITIONS", "PlateConstraints", "plate_constraints", "argyris_element",
+__all__ = ["StraightEdge", "straight_edge", "pure_bending_rotations", "CONDITIONS", "PlateConstraints", "plate_constraints", "argyris_element",
            "boundary_dofs", "clamped_dofs", "rotation_dofs", "prescribed_values"]
 
 CONDITIONS = ("clamped", "simply_supported", "free")
@@ -374,3 +376,56 @@ def prescribed_values(basis, dofs: ndarray, value, grad=None, hess=None) -> ndar
     the rigid rotation ``u = (R(θ) − I)(X − X0)`` of a clamped shell edge.
     """
     return interpolate(basis, value, grad, hess)[np.asarray(dofs)]
+
+
+@dataclass
+class StraightEdge:
+    """A straight named boundary: facets, outward unit normal and a point on it."""
+
+    name: str
+    facets: np.ndarray
+    normal: np.ndarray
+    origin: np.ndarray
+    length: float
+
+
+def straight_edge(mesh, name: str, facets, error: type[Exception] = ValueError) -> StraightEdge:
+    """The named boundary ``facets`` as one straight edge (``error`` if it is not one)."""
+    p = mesh.p[:, mesh.facets[:, facets]]  # (2, 2, nf)
+    tangent = p[:, 1] - p[:, 0]
+    lengths = np.linalg.norm(tangent, axis=0)
+    normal = np.array([tangent[1], -tangent[0]]) / lengths
+    # orient outwards: away from the centroid of the element owning the facet
+    centroid = mesh.p[:, mesh.t[:, mesh.f2t[0, facets]]].mean(axis=1)
+    flip = np.einsum("ij,ij->j", normal, 0.5 * (p[:, 0] + p[:, 1]) - centroid) < 0
+    normal[:, flip] *= -1
+    n0 = normal[:, 0]
+    offsets = np.einsum("i,ij->j", n0, p[:, 0] - p[:, 0, :1])
+    if np.any(n0 @ normal < 1 - 1e-9) or np.any(np.abs(offsets) > 1e-9 * max(lengths.sum(), 1e-300)):
+        raise error(f"boundary {name!r} must be a single straight edge for this support")
+    return StraightEdge(name, np.asarray(facets), n0, p[:, 0, 0].copy(), float(lengths.sum()))
+
+
+def pure_bending_rotations(kappa, length: float, ends=("left", "right")):
+    """Edge rotations that impose the uniform curvature ``κ(t)`` on a strip of ``length``.
+
+    With both ends clamped at ``w = 0`` and outward normal slopes
+    ``∂w/∂n = s κ L/2`` (``s`` = :data:`CURVATURE_SIGN`) the deflection is
+    ``w = s κ x (x − L)/2``: exactly uniform ``κ_xx = κ`` (pure bending, as in
+    the KES-FB tester). If ``kappa`` returns ``(κ, κ̇, κ̈)`` the slopes carry
+    their rates too (exact lifting).
+
+    >>> rot = pure_bending_rotations(lambda t: 2.0 * t, 0.01)
+    >>> rot["left"](1.0), rot["right"](1.0)
+    (0.01, 0.01)
+    """
+    if not length > 0:
+        raise ValueError(f"length must be > 0, got {length}")
+
+    def slope(t):
+        value = kappa(t)
+        if np.ndim(value):
+            return tuple(0.5 * CURVATURE_SIGN * length * float(x) for x in value)
+        return 0.5 * CURVATURE_SIGN * length * float(value)
+
+    return {end: slope for end in ends}

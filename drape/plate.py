@@ -34,7 +34,6 @@ True
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Callable, Mapping
 
 import numpy as np
@@ -47,6 +46,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 import skfem
 
+from .boundary import pure_bending_rotations, straight_edge
 from .loads import as_function
 from .assembly import (
     SparsityPattern,
@@ -102,58 +102,6 @@ def _material_parts(material):
 def _coef(law, name: str) -> float:
     value = getattr(law, name, 0.0)
     return 0.0 if value is None else float(value)
-
-
-@dataclass
-class _Edge:
-    """A straight named boundary: facets, outward unit normal and a point on it."""
-
-    name: str
-    facets: np.ndarray
-    normal: np.ndarray
-    origin: np.ndarray
-    length: float
-
-
-def _straight_edge(mesh, name: str, facets) -> _Edge:
-    p = mesh.p[:, mesh.facets[:, facets]]  # (2, 2, nf)
-    tangent = p[:, 1] - p[:, 0]
-    lengths = np.linalg.norm(tangent, axis=0)
-    normal = np.array([tangent[1], -tangent[0]]) / lengths
-    # orient outwards: away from the centroid of the element owning the facet
-    centroid = mesh.p[:, mesh.t[:, mesh.f2t[0, facets]]].mean(axis=1)
-    flip = np.einsum("ij,ij->j", normal, 0.5 * (p[:, 0] + p[:, 1]) - centroid) < 0
-    normal[:, flip] *= -1
-    n0 = normal[:, 0]
-    offsets = np.einsum("i,ij->j", n0, p[:, 0] - p[:, 0, :1])
-    if np.any(n0 @ normal < 1 - 1e-9) or np.any(np.abs(offsets) > 1e-9 * max(lengths.sum(), 1e-300)):
-        raise PlateInputError(f"boundary {name!r} must be a single straight edge for this support")
-    return _Edge(name, np.asarray(facets), n0, p[:, 0, 0].copy(), float(lengths.sum()))
-
-
-def pure_bending_rotations(kappa: Callable[[float], float], length: float, ends=("left", "right")):
-    """Edge rotations that impose the uniform curvature ``κ(t)`` on a strip of ``length``.
-
-    With both ends clamped at ``w = 0`` and outward normal slopes
-    ``∂w/∂n = s κ L/2`` (``s`` = :data:`CURVATURE_SIGN`) the deflection is
-    ``w = s κ x (x − L)/2``: exactly uniform ``κ_xx = κ`` (pure bending, as in
-    the KES-FB tester). If ``kappa`` returns ``(κ, κ̇, κ̈)`` the slopes carry
-    their rates too (exact lifting).
-
-    >>> rot = pure_bending_rotations(lambda t: 2.0 * t, 0.01)
-    >>> rot["left"](1.0), rot["right"](1.0)
-    (0.01, 0.01)
-    """
-    if not length > 0:
-        raise PlateInputError(f"length must be > 0, got {length}")
-
-    def slope(t):
-        value = kappa(t)
-        if np.ndim(value):
-            return tuple(0.5 * CURVATURE_SIGN * length * float(x) for x in value)
-        return 0.5 * CURVATURE_SIGN * length * float(value)
-
-    return {end: slope for end in ends}
 
 
 class KirchhoffPlate:
@@ -322,7 +270,7 @@ class KirchhoffPlate:
         fixed = pc.fixed_dofs(self.basis, names=held) if held else np.zeros(0, dtype=int)
         self._rotations = []
         for name, slope in rotations.items():
-            edge = _straight_edge(self.mesh, name, self._boundary_facets(name, f"rotations[{name!r}]"))
+            edge = straight_edge(self.mesh, name, self._boundary_facets(name, f"rotations[{name!r}]"), PlateInputError)
             dofs = pc.fixed_dofs(self.basis, names=[name])
             n, x0 = edge.normal, edge.origin
             unit = prescribed_values(
