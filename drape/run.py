@@ -198,28 +198,31 @@ step stays on disk; summary.json says why), 130 interrupted (Ctrl-C), 143 termin
 (SIGTERM); continue a stopped run with --resume OUTDIR"""
 
 
+_OPTIONS = {
+    "--resume": dict(metavar="OUTDIR", help="continue the stopped run in OUTDIR from its checkpoint "
+                                            "(its last converged step)"),
+    "--out": dict(metavar="DIR", help="output directory (default: out/<case name>)"),
+    "--set": dict(metavar="KEY=VALUE", action="append", default=[], dest="overrides",
+                  help="override any case key by its dotted name; the value is read as TOML "
+                       "(numbers, true/false, arrays, \"strings\"), a bare word as a string: "
+                       "--set solver.dt=1e-3 --set model.kinematics=small; "
+                       "repeatable, applied before validation"),
+    "--quiet": dict(action="store_true", help="no progress bar, no final message"),
+    "--check": dict(action="store_true", help="validate the case and build mesh, material and model, "
+                                              "then stop (prints what would run; writes nothing)"),
+    "--help-case": dict(action="store_true",
+                        help="print every case-file table and key with its meaning, and exit"),
+}
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="python -m drape.run", epilog=_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter,
         description="Run a fabric bending / drape case file (TOML) and write VTU/PVD, "
                     "history.csv and summary.json.")
     p.add_argument("case", nargs="?", help="case file (TOML)")
-    p.add_argument("--resume", metavar="OUTDIR",
-                   help="continue the stopped run in OUTDIR from its checkpoint (its last "
-                        "converged step)")
-    p.add_argument("--out", metavar="DIR",
-                   help="output directory (default: out/<case name>)")
-    p.add_argument("--set", metavar="KEY=VALUE", action="append", default=[], dest="overrides",
-                   help="override any case key by its dotted name; the value is read as TOML "
-                        "(numbers, true/false, arrays, \"strings\"), a bare word as a string: "
-                        "--set solver.dt=1e-3 --set model.kinematics=small; "
-                        "repeatable, applied before validation")
-    p.add_argument("--quiet", action="store_true", help="no progress bar, no final message")
-    p.add_argument("--check", action="store_true",
-                   help="validate the case and build mesh, material and model, then stop "
-                        "(prints what would run; writes nothing)")
-    p.add_argument("--help-case", action="store_true",
-                   help="print every case-file table and key with its meaning, and exit")
+    for flag, options in _OPTIONS.items():
+        p.add_argument(flag, **options)
     return p
 
 
