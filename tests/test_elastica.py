@@ -14,7 +14,7 @@ from skfem import MeshTri
 
 from drape.newmark import quasi_static
 from drape.peirce import shell_peirce_summary
-from constitutive.units import G0 as G_STANDARD
+from constitutive.units import G0
 from drape.shell import ElasticMaterial, KirchhoffLoveShell
 
 
@@ -49,7 +49,7 @@ def test_self_weight_cantilever_matches_elastica(alpha):
     L, b, B = 1.0, 0.2, 1.0
     mesh = MeshTri.init_tensor(np.linspace(0, L, 5), np.linspace(0, b, 2))
     mesh = mesh.with_boundaries({"clamped": lambda x: x[0] < 1e-9, "free": lambda x: x[0] > L - 1e-9})
-    mat = ElasticMaterial(bending=B, membrane=1e5, areal_mass=alpha / G_STANDARD)
+    mat = ElasticMaterial(bending=B, membrane=1e5, areal_mass=alpha / G0)
     shell = KirchhoffLoveShell(mesh, mat)
     u = quasi_static(shell, np.linspace(0.1, 1.0, 10)).u
     s = shell_peirce_summary(shell, u, B_kes=B)

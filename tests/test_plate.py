@@ -17,7 +17,7 @@ from constitutive.friction import FrictionParams, closed_form_from_rest
 from constitutive.law import BendingLaw
 from constitutive.material import FabricMaterial
 from drape.newmark import initial_state, integrate, quasi_static
-from constitutive.units import G0 as STANDARD_GRAVITY
+from constitutive.units import G0
 from drape.plate import KirchhoffPlate, PlateInputError, pure_bending_rotations
 
 B = 2.0e-5        # N·m, bending rigidity (a mid-weight fabric)
@@ -46,7 +46,7 @@ def tip_deflection(plate, u, length=L):
 # --------------------------------------------------------------------------- statics
 def test_cantilever_morley_tip_and_convergence():
     """Tip w = ρ_A g L⁴/(8B) within 1 %; the error falls under uniform refinement (O(h²))."""
-    exact = -RHO * STANDARD_GRAVITY * L**4 / (8 * B)
+    exact = -RHO * G0 * L**4 / (8 * B)
     errors = []
     for nx, ny in [(8, 2), (16, 4), (32, 8)]:
         plate = KirchhoffPlate(strip(nx, ny), material(), supports={"left": "clamped"})
@@ -59,7 +59,7 @@ def test_cantilever_morley_tip_and_convergence():
 
 def test_cantilever_argyris_tip_exact():
     """The beam solution is a quartic, inside the quintic Argyris space: tip exact to 1e-8."""
-    exact = -RHO * STANDARD_GRAVITY * L**4 / (8 * B)
+    exact = -RHO * G0 * L**4 / (8 * B)
     plate = KirchhoffPlate(strip(4, 1), material(), element="argyris", supports={"left": "clamped"})
     u = quasi_static(plate, [1.0]).u
     assert abs(tip_deflection(plate, u) / exact - 1) < 1e-8
@@ -104,14 +104,14 @@ def test_cubic_friction_cantilever_against_quadrature():
     law = BendingLaw(k1=B, **law_kw)
 
     def kappa(x):
-        M = RHO * STANDARD_GRAVITY * (L - x) ** 2 / 2
+        M = RHO * G0 * (L - x) ** 2 / 2
         f = lambda k: law.elastic(k)[0] + closed_form_from_rest(fp, k) - M  # noqa: E731
         return brentq(f, 0.0, 1e4) if M > 0 else 0.0
 
     exact = -quad(lambda x: kappa(x) * (L - x), 0, L, limit=200)[0]
     assert abs(tip_deflection(plate, u) / exact - 1) < 5e-3
     # the nonlinear terms matter here: the linear answer is far off
-    assert abs(-RHO * STANDARD_GRAVITY * L**4 / (8 * B) / exact - 1) > 0.05
+    assert abs(-RHO * G0 * L**4 / (8 * B) / exact - 1) > 0.05
 
 
 def test_consistent_tangent_matches_finite_differences():
@@ -240,7 +240,7 @@ def test_library_fabric_drape_strip_converges_and_friction_stiffens():
     plate = KirchhoffPlate(strip(8, 1, length=length, width=0.01), mat, supports={"left": "clamped"})
     u = quasi_static(plate, [0.25, 0.5, 0.75, 1.0]).u
     tip = -tip_deflection(plate, u, length)
-    q = mat.areal_mass * STANDARD_GRAVITY
+    q = mat.areal_mass * G0
     w = mat.warp
     stick = w.k1 + (w.friction.f1 / w.friction.a1 - w.friction.f2 / w.friction.a2)
     assert q * length**4 / (8 * stick) < tip < q * length**4 / (8 * w.k1)
