@@ -56,6 +56,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 __all__ = [
+    "StepControl",
     "NewmarkState",
     "StepInfo",
     "ConvergenceError",
@@ -93,6 +94,20 @@ class NewmarkState:
 
 
 @dataclass
+class StepControl:
+    """Where :func:`integrate`'s step control stands after a converged step.
+
+    Given back to :func:`integrate` (``control=``), the step sequence continues as if the
+    integration had never stopped (a run resumed from its checkpoint).
+    """
+
+    dt: float                      # size of the next step, before landing on hit times
+    successes: int = 0             # converged steps since the size last changed
+    predictors: tuple = ()         # predictor order: the first is tried first
+    iterations: dict = field(default_factory=dict)   # Newton iterations each predictor last took
+
+
+@dataclass
 class StepInfo:
     """Newton record of one converged (or failed) step."""
 
@@ -103,6 +118,7 @@ class StepInfo:
     increment_norms: list = field(default_factory=list)
     step: int = 0
     cuts: int = 0
+    control: StepControl | None = None
 
 
 @dataclass(frozen=True)
@@ -603,7 +619,8 @@ def _sticky_step(model, state, dt, beta, gamma, alpha_hht, order, newton, counts
 
 def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None, *, beta=None, gamma=None,
               alpha_hht: float = 0.0, hit_times=(), max_cuts: int = 6, grow_after: int = 4, on_step=None,
-              progress: bool = False, dt_max: float | None = None, **newton) -> NewmarkState:
+              progress: bool = False, dt_max: float | None = None, control: StepControl | None = None,
+              **newton) -> NewmarkState:
     """Integrate from ``state`` (default: :func:`initial_state`) to ``t_end``.
 
     Each converged step is committed (``model.commit``) and passed to
@@ -619,7 +636,9 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
     given (one factorization serves many steps). With ``predictor="auto"``
     (default) each step starts from the predictor that converged last (first
     the constant-acceleration one) and tries the other only on failure, or
-    first when the last one needed more than 6 Newton iterations.
+    first when the last one needed more than 6 Newton iterations. Each step's
+    ``info.control`` (:class:`StepControl`) is where the step size and the predictor
+    choice stand after it; ``control`` starts from there instead of from ``dt``.
 
     Raises
     ------
@@ -644,11 +663,17 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
         raise IntegratorInputError(f"predictor must be 'auto', 'acceleration' or 'displacement', got {predictor!r}")
     order = ["acceleration", "displacement"] if predictor == "auto" else [predictor]
     counts = {}
+    level, successes = 0, 0
+    if control is not None:
+        level = min(max(-int(np.ceil(np.log2(control.dt / dt) - 1e-9)), min_level), int(max_cuts))
+        successes = int(control.successes)
+        if predictor == "auto" and control.predictors:
+            order, counts = list(control.predictors), dict(control.iterations)
     if not t_end > state.t:
         raise IntegratorInputError(f"t_end must be > the start time {state.t}, got {t_end!r}")
     eps = 1e-12 * max(abs(t_end), dt)
     hits = sorted(float(t) for t in hit_times if state.t + eps < t <= t_end - eps)
-    level, successes, step = 0, 0, 0
+    step = 0
     bar = None
     if progress:
         from tqdm import tqdm
@@ -680,11 +705,13 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
             if bar is not None:
                 bar.update(new.t - state.t)
             state = new
-            if on_step is not None and on_step(state, info) is True:
-                break
             successes += 1
             if level > min_level and successes >= grow_after:
                 level, successes = level - 1, 0
+            info.control = StepControl(min(dt * 2.0**-level, dt_max), successes, tuple(order),
+                                       dict(counts))
+            if on_step is not None and on_step(state, info) is True:
+                break
     finally:
         if bar is not None:
             bar.close()

@@ -7,6 +7,7 @@ where its checkpoint left it.
 """
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import sys
@@ -14,6 +15,7 @@ import time
 
 from drape.analyses import ANALYSES, RunContext
 from drape.checkpoint import Checkpoint, write_checkpoint
+from drape.newmark import StepControl
 from drape.output import OutputSchedule, OutputWriter, flat_fields
 from drape.probes import DisplacementProbe
 from drape.settling import Settling, settling_threshold
@@ -40,7 +42,7 @@ class Recorder:
         self.last = None
         self.last_written = None
         self.stop_reason = None
-        self.integrator: dict = {}
+        self.control = None        # the integrator's step control after the last step
 
     def __call__(self, state, info=None) -> bool:
         model = self.ctx.model
@@ -64,7 +66,7 @@ class Recorder:
         self.last = state
         self.step += 1
         settled = self.settled(state.t, energies.get("kinetic", math.inf))
-        self.integrator = {"dt": row["dt"], **dict(getattr(info, "control", None) or {})}
+        self.control = getattr(info, "control", None)
         self.checkpoint()
         self.bar.update(max(0.0, min(float(state.t), self.bar.total) - self.bar.n))
         if settled:
@@ -78,7 +80,8 @@ class Recorder:
         """Save the last converged step (after the model committed it)."""
         run = {"step": self.step, "datasets": len(self.writer.datasets),
                "last_written": self.last_written, "schedule": self.schedule.state_dict(),
-               "settling_count": self.settled.count, "integrator": self.integrator,
+               "settling_count": self.settled.count,
+               "step_control": None if self.control is None else dataclasses.asdict(self.control),
                "wall_time_s": time.perf_counter() - self.wall0}
         write_checkpoint(self.writer.directory, self.last, self.ctx.model.state_dict(), run)
 
@@ -90,7 +93,9 @@ class Recorder:
         self.step, self.last_written = run["step"], run["last_written"]
         self.schedule.load_state_dict(run["schedule"])
         self.settled.count = run["settling_count"]
-        self.integrator = run["integrator"]
+        control = run["step_control"]
+        self.control = None if control is None else StepControl(
+            **{**control, "predictors": tuple(control["predictors"])})
         self.wall0 -= run["wall_time_s"]
         self.last = checkpoint.state
         self.bar.update(max(0.0, min(float(self.last.t), self.bar.total) - self.bar.n))

@@ -130,16 +130,18 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
                     newmark.quasi_static(model, np.ones_like(times), times=times, state=state0,
                                          max_cuts=solver.max_cuts, on_step=rec, **newton)
             else:
-                state = state0
+                state, t_start = state0, 0.0
                 for t_stop, dt_max, settling in time_phases(case):
-                    if t_stop <= state.t + t_eps or rec.stop_reason is not None:
-                        continue
-                    # the settling phase starts at dt and lands on no output marks: its step grows
-                    state = newmark.integrate(model, t_stop, solver.dt, state=state, dt_max=dt_max,
-                                              beta=solver.newmark_beta, gamma=solver.newmark_gamma,
-                                              alpha_hht=solver.alpha_hht, max_cuts=solver.max_cuts,
-                                              hit_times=() if settling else hit_times(case),
-                                              on_step=rec, **newton)
+                    if t_stop > state.t + t_eps and rec.stop_reason is None:
+                        # the settling phase starts at dt and lands on no output marks: its step
+                        # grows; a run resumed within a phase goes on with the phase's step control
+                        state = newmark.integrate(model, t_stop, solver.dt, state=state, dt_max=dt_max,
+                                                  beta=solver.newmark_beta, gamma=solver.newmark_gamma,
+                                                  alpha_hht=solver.alpha_hht, max_cuts=solver.max_cuts,
+                                                  hit_times=() if settling else hit_times(case),
+                                                  control=rec.control if state.t > t_start + t_eps else None,
+                                                  on_step=rec, **newton)
+                    t_start = t_stop
             if rec.stop_reason is not None:
                 status, reason = "settled", rec.stop_reason
         except newmark.ConvergenceError as exc:

@@ -35,17 +35,25 @@ def env_with_worktree() -> dict:
     return env
 
 
-@pytest.fixture(scope="module")
-def uninterrupted(tmp_path_factory) -> Path:
+#: Once gravity is on, a settling phase whose step doubles every 4 steps from 0.01 to 0.08 s.
+GROWING = SMALL + ["solver.settling_dt=0.08"]
+
+
+def reference_run(tmp_path_factory, overrides: list[str]) -> Path:
     out = tmp_path_factory.mktemp("uninterrupted")
-    summary = runner.run_case(load_case(CANTILEVER, SMALL), out, quiet=True)
+    summary = runner.run_case(load_case(CANTILEVER, overrides), out, quiet=True)
     assert summary["status"] == "completed"
     return out
 
 
-def start_run(out: Path) -> subprocess.Popen:
+@pytest.fixture(scope="module")
+def uninterrupted(tmp_path_factory) -> Path:
+    return reference_run(tmp_path_factory, SMALL)
+
+
+def start_run(out: Path, overrides: list[str] = SMALL) -> subprocess.Popen:
     cmd = [sys.executable, "-m", "drape.run", str(CANTILEVER), "--out", str(out), "--quiet",
-           *sum((["--set", o] for o in SMALL), [])]
+           *sum((["--set", o] for o in overrides), [])]
     return subprocess.Popen(cmd, cwd=ROOT, env=env_with_worktree(), stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
 
@@ -119,6 +127,27 @@ def test_sigterm_leaves_a_valid_run_that_resumes_to_the_uninterrupted_state(tmp_
     np.testing.assert_allclose([r["tip_uz"] for r in got_rows], [r["tip_uz"] for r in want_rows],
                                rtol=RTOL)
     assert final["analysis"]["tip_drop_m"] == pytest.approx(want["analysis"]["tip_drop_m"], rel=RTOL)
+
+
+def test_a_run_stopped_in_its_settling_phase_resumes_with_the_same_growing_steps(
+        tmp_path, tmp_path_factory):
+    reference = reference_run(tmp_path_factory, GROWING)
+    want_dt = [r["dt"] for r in read_history(reference / "history.csv")]
+    assert max(want_dt) == pytest.approx(0.08) and len(set(want_dt)) > 3   # the step did grow
+    out = tmp_path / "run"
+    proc = start_run(out, GROWING)
+    _, err = signal_after(proc, out, rows=27, signum=signal.SIGTERM)   # a few steps after 0.2 s
+    assert proc.returncode == EXIT_TERMINATED, err
+    stopped_at = json.loads((out / "summary.json").read_text())["t_final"]
+    assert 0.2 < stopped_at < 0.6
+
+    done = resume(out)
+    assert done.returncode == 0, done.stderr
+    got = read_history(out / "history.csv")
+    assert [r["t"] for r in got] == pytest.approx([r["t"] for r in read_history(
+        reference / "history.csv")], rel=1e-12)
+    assert [r["dt"] for r in got] == pytest.approx(want_dt, rel=1e-12)
+    assert_same_final_state(out, reference)
 
 
 def test_resume_drops_output_written_after_the_checkpoint(tmp_path, uninterrupted):
