@@ -86,11 +86,8 @@ def run_case(case: Case, out_dir, quiet: bool = False, parts: Parts | None = Non
 
 
 def resume_run(out_dir, quiet: bool = False) -> dict:
-    """Continue the run in ``out_dir`` from its checkpoint (``python -m drape.run --resume``).
-
-    The case is read back from ``case.resolved.toml``; the output written after the checkpoint
-    is dropped, so the continued run writes the same series an unstopped run would have.
-    """
+    """Continue the run in ``out_dir`` from its checkpoint (``python -m drape.run --resume``): the
+    case read back from ``case.resolved.toml``, what was written after the checkpoint dropped."""
     out_dir = Path(out_dir)
     done = out_dir / "summary.json"
     summary = json.loads(done.read_text()) if done.exists() else {}
@@ -133,8 +130,7 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
                 state, t_start = state0, 0.0
                 for t_stop, dt_max, settling in time_phases(case):
                     if t_stop > state.t + t_eps and rec.stop_reason is None:
-                        # the settling phase starts at dt and lands on no output marks: its step
-                        # grows; a run resumed within a phase goes on with the phase's step control
+                        # settling: the step grows, no output marks; resumed: the phase's control
                         state = newmark.integrate(model, t_stop, solver.dt, state=state, dt_max=dt_max,
                                                   beta=solver.newmark_beta, gamma=solver.newmark_gamma,
                                                   alpha_hht=solver.alpha_hht, max_cuts=solver.max_cuts,
@@ -264,13 +260,13 @@ def main(argv: list[str] | None = None) -> int:
 
 def _resume(args) -> int:
     if args.case is not None or args.overrides or args.out or args.check:
-        print("error: --resume OUTDIR reads the case from OUTDIR/case.resolved.toml: give no case "
-              "file, --set, --out or --check with it", file=sys.stderr)
+        print("error: --resume OUTDIR runs OUTDIR/case.resolved.toml: no case, --set, --out, --check",
+              file=sys.stderr)
         return 1
     try:
         with sigterm_raises():
             summary = resume_run(args.resume, quiet=args.quiet)
-    except (FileNotFoundError, CaseError, ValueError) as exc:
+    except (FileNotFoundError, ValueError) as exc:   # CaseError is a ValueError
         print(f"error: cannot resume {args.resume}: {exc}", file=sys.stderr)
         return 1
     return _report(summary, Path(args.resume), args.quiet)
