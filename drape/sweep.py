@@ -476,7 +476,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"results in {out / 'results.csv'}")
     from drape.report import write_report
 
-    report = write_report(out)
+    try:
+        report = write_report(out)
+    except Exception as exc:  # the runs and results.csv are done; the page can be made again
+        print(f"report.html not written ({_one_line(exc)}); try python -m drape.report {out}",
+              file=sys.stderr)
+        return 0
     if not args.quiet:
         print(f"report in {report}")
     return 0
