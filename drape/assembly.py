@@ -76,6 +76,13 @@ class SparsityPattern:
         data = np.bincount(self._scatter, weights=np.ravel(element_matrices), minlength=self.nnz)
         return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.ndofs, self.ndofs))
 
+    def element_positions(self) -> np.ndarray:
+        """Position in the CSR ``data`` of every element-matrix entry, shape
+        (n_elements, n_basis, n_basis), for kernels that scatter element matrices directly."""
+        nb, ne = self.element_dofs.shape
+        dtype = np.int32 if self.nnz < np.iinfo(np.int32).max else np.int64
+        return self._scatter.astype(dtype).reshape(ne, nb, nb)
+
     def from_data(self, data) -> sp.csr_matrix:
         """CSR matrix on this pattern with the given ``data`` (length ``nnz``)."""
         return sp.csr_matrix((np.asarray(data, dtype=float), self.indices, self.indptr), shape=(self.ndofs, self.ndofs))

@@ -126,7 +126,10 @@ def curvature(h, n):
 
 
 class KLPoint:
-    """Kinematic state and its variations at an array of material points.
+    """Kinematic state and its first variations at an array of material points.
+
+    A vectorised reference for the compiled kernels of :mod:`drape.shell_kernels`,
+    which assemble the shell's force and tangent.
 
     Parameters
     ----------
@@ -203,114 +206,6 @@ class KLPoint:
         first = (np.swapaxes(self.HN, 2, 3)[..., None] * self.n[:, :, None, None, :])
         return first.reshape(e, q, 3, 3 * nb) + np.matmul(self.h, np.swapaxes(dn, 2, 3))
 
-    def rate_variation(self, xe):
-        """Curvature rate ``κ̇ = ∂κ/∂u · x`` and its derivative ``∂κ̇/∂u`` for a fixed rate.
-
-        Parameters
-        ----------
-        xe : ndarray, shape (e, nb, 3)
-            Element coefficients of the rate field ``x`` (velocity or acceleration).
-
-        Returns
-        -------
-        kdot : (e, q, 3) Voigt curvature rate.
-        g : (e, q, 3, 3 nb) ``∂κ̇_v/∂u_I = (∂²κ_v/∂u∂u) x`` (enters the tangent of
-        viscous bending moments ``d κ̇``).
-        """
-        da3, dn = self.normal_variation()
-        a, n, j, h = self.a, self.n, self.j, self.h
-        e, q, nb, _ = self.HN.shape
-        adot = np.einsum("eqba,ebk->eqak", self.dN, xe)
-        hdot = np.einsum("eqbv,ebk->eqvk", self.HN, xe)
-        a3dot = np.cross(adot[..., 0, :], a[..., 1, :]) + np.cross(a[..., 0, :], adot[..., 1, :])
-        na3 = np.einsum("eqk,eqk->eq", n, a3dot)
-        ndot = (a3dot - na3[..., None] * n) / j[..., None]
-        kdot = np.einsum("eqvk,eqk->eqv", hdot, n) + np.einsum("eqvk,eqk->eqv", h, ndot)
-        # ḣ_v · ∂n/∂u_I + N_b,v ṅ_k
-        g = np.matmul(hdot, np.swapaxes(dn, 2, 3))
-        g += (np.swapaxes(self.HN, 2, 3)[..., None] * ndot[:, :, None, None, :]).reshape(e, q, 3, -1)
-        # h_v · ∂²n/∂a3² [∂a3/∂u_I, ȧ3]
-        hn = np.einsum("eqvk,eqk->eqv", h, n)
-        ha3 = np.einsum("eqvk,eqk->eqv", h, a3dot)
-        Dh = np.matmul(h, np.swapaxes(da3, 2, 3))                      # (e, q, v, I)
-        An = self._An[:, :, None, :]
-        Da = np.matmul(da3, a3dot[..., None])[..., 0][:, :, None, :]
-        j2 = (j ** 2)[..., None, None]
-        g += (-Dh * na3[..., None, None] - ha3[..., None] * An - Da * hn[..., None]
-              + 3.0 * (hn * na3[..., None])[..., None] * An) / j2
-        # (P h_v / j) · ∂ȧ3/∂u_I = N_b,2 (p × ȧ1)_k + N_b,1 (ȧ2 × p)_k
-        p = (h - hn[..., None] * n[:, :, None, :]) / j[..., None, None]
-        c1 = np.cross(p, adot[:, :, None, 0, :])
-        c2 = np.cross(adot[:, :, None, 1, :], p)
-        g += (self.dN[:, :, None, :, 1, None] * c1[:, :, :, None, :]
-              + self.dN[:, :, None, :, 0, None] * c2[:, :, :, None, :]).reshape(e, q, 3, -1)
-        return kdot, g
-
-    def tangent(self, C_m, N, M, D, w, strain_projection=None):
-        """Element tangent ``Σ_q w (∂²W/∂u_I∂u_J)``, shape (e, 3 nb, 3 nb).
-
-        Material parts ``∂εᵀ C_m ∂ε`` and ``∂κᵀ D ∂κ`` plus the geometric parts
-        ``N_v ∂²ε_v`` and ``M_v ∂²κ_v`` (second variation of the normal included);
-        the dense rank terms are stacked into one batched matmul.
-
-        Parameters
-        ----------
-        C_m : (3, 3) membrane stiffness; N : (e, q, 3) membrane forces;
-        M : (e, q, 3) moments; D : (e, q, 3) moment tangents dM_v/dκ_v;
-        w : (e, q) quadrature weights; strain_projection : (q, q), optional
-        self-adjoint operator ``Q`` of an assumed membrane strain
-        (:func:`assumed_strain_operator`, energy ``½ ∫ εᵀ C_m Q ε``); then ``N`` must be
-        ``C_m Q ε``.
-        """
-        da3, dn = self.normal_variation()
-        de = self.strain_variation()
-        dk = self.curvature_variation()
-        n, j, nb = self.n, self.j, self.nb
-        e, nq = w.shape
-        nd = 3 * nb
-        Mw = M * w[..., None]
-        m = np.einsum("eqv,eqvk->eqk", Mw, self.h)
-        mn = np.einsum("eqk,eqk->eq", m, n)
-        s = mn / j ** 2
-        Am = np.matmul(da3, m[..., None])[..., 0] / j[..., None] ** 2
-        An = self._An
-        A = np.empty((e, nq, 12, nd))
-        B = np.empty((e, nq, 12, nd))
-        A[:, :, 0:3] = de
-        # assumed strain: the second variation of ½ ∫ εᵀ C Q ε is ∫ ∂εᵀ C (Q ∂ε) (Q self-adjoint)
-        dep = de if strain_projection is None else np.einsum("pq,eqvI->epvI", strain_projection, de)
-        B[:, :, 0:3] = np.matmul(C_m, dep) * w[..., None, None]
-        A[:, :, 3:6] = dk
-        B[:, :, 3:6] = dk * (D * w[..., None])[..., None]
-        A[:, :, 6:9] = np.swapaxes(da3, 2, 3)
-        B[:, :, 6:9] = A[:, :, 6:9] * -s[..., None, None]
-        A[:, :, 9], B[:, :, 9] = An, 3.0 * s[..., None] * An
-        A[:, :, 10], B[:, :, 10] = Am, -An
-        A[:, :, 11], B[:, :, 11] = An, -Am
-        K = gram(A, B)
-        # N_b,v (∂n/∂u_J)_k M_v and its transpose
-        Mh = np.matmul(self.HN, Mw[..., None])[..., 0]
-        X = gram(Mh, dn.reshape(e, nq, nd * 3)).reshape(e, nb, nd, 3)
-        X = np.swapaxes(X, 2, 3).reshape(e, nd, nd)
-        K += X + np.swapaxes(X, 1, 2)
-        # (P m / j) · ∂²a3/∂u_I∂u_J = -(N_b,1 N_c,2 - N_b,2 N_c,1) [p]_x[k, l]
-        p = (m - mn[..., None] * n) / j[..., None]
-        S = np.einsum("kil,eqi->eqkl", LEVI_CIVITA, p)
-        Bt = np.einsum("eqc,eqkl->eqckl", self.dN[..., 1], S).reshape(e, nq, -1)
-        T = gram(self.dN[..., 0], Bt).reshape(e, nb, nb, 3, 3)   # [b, c, k, l]
-        T = T - np.swapaxes(T, 1, 2)
-        # membrane geometric term N_v ∂²ε_v (identity in the components) on the diagonal blocks
-        Sn = np.empty(N.shape[:2] + (2, 2))
-        Sn[..., 0, 0], Sn[..., 1, 1] = N[..., 0], N[..., 1]
-        Sn[..., 0, 1] = Sn[..., 1, 0] = N[..., 2]
-        SdN = np.einsum("eqac,eqdc->eqad", Sn * w[..., None, None], self.dN)
-        G = gram(np.swapaxes(self.dN, 2, 3), SdN)                # (e, nb, nb)
-        T = -T
-        for k in range(3):
-            T[:, :, :, k, k] += G
-        K += np.transpose(T, (0, 1, 3, 2, 4)).reshape(e, nd, nd)
-        return K
-
 
 def polynomial_projection(X, W, degree: int):
     """L²(W) projection of quadrature-point values onto polynomials of total ``degree``.
@@ -352,14 +247,6 @@ def polynomial_projection(X, W, degree: int):
         raise ValueError(f"degree {degree} needs {V.shape[1]} quadrature points, the rule has {V.shape[0]}")
     G = V.T @ (W[:, None] * V)
     return V @ np.linalg.solve(G, V.T * W)
-
-
-def gram(A, B):
-    """``Σ AᵢBⱼ`` over all middle axes: (e, ..., I), (e, ..., J) -> (e, I, J) by batched matmul."""
-    e = A.shape[0]
-    A2 = A.reshape(e, -1, A.shape[-1])
-    B2 = B.reshape(e, -1, B.shape[-1])
-    return np.matmul(np.swapaxes(A2, 1, 2), B2)
 
 
 def assumed_strain_operator(X, W, degree: int, stabilization: float = 0.0):

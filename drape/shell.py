@@ -14,10 +14,10 @@ from the hysteretic law through ``BendingState.trial/commit`` at every
 quadrature point; twist is linear.  External loads: gravity ``−λ(t) ρ_A g e_z``,
 a force per unit length on an edge and a follower end moment per unit width.
 
-Assembly works on the basis arrays with batched ``einsum``/``matmul`` and a
-precomputed sparsity pattern (:class:`drape.assembly.SparsityPattern`), not on
-per-basis-pair form calls (docs/theory.md §4); K, C and M share one CSR
-pattern.
+Force and tangent come from compiled per-element kernels (:mod:`drape.shell_kernels`)
+that work on the basis arrays and scatter straight into the CSR data of a precomputed
+sparsity pattern (:class:`drape.assembly.SparsityPattern`), not on per-basis-pair form
+calls (docs/theory.md §4); K, C and M share one CSR pattern.
 
 Examples
 --------
@@ -56,7 +56,8 @@ from constitutive.law import BendingLaw, check_friction_tangent
 from constitutive.conventions import CURVATURE_SIGN, twisting_moment
 from constitutive.units import G0
 from drape.assembly import SparsityPattern
-from drape.kinematics import KLPoint, assumed_strain_operator, basis_arrays, gram
+from drape import shell_kernels as kernels
+from drape.kinematics import KLPoint, assumed_strain_operator, basis_arrays
 from drape.loads import as_function
 
 #: Private attributes :meth:`KirchhoffLoveShell.commit` keeps besides the laws' states.
@@ -202,12 +203,12 @@ class KirchhoffLoveShell:
     rayleigh : (float, float)
         ``C = α M + β K0`` with ``K0`` the tangent of the undeformed state.
     intorder : int
-        Quadrature order (default 6).
+        Degree of the quadrature rule (default 6, 12 points): the bending stiffness of the
+        quintic Argyris basis on straight triangles, ``∫ ∇∇N · ∇∇N``, is a polynomial of
+        degree 6, which this rule integrates exactly (the 7-point rule of degree 5 does
+        not).
     g : float
         Gravitational acceleration [m/s²].
-    chunk : int
-        Elements per batch in the assembly (bounds the memory of the
-        (element, point, 63, 63) work arrays).
     membrane_strain_degree : int, optional
         Project the membrane strain on each triangle onto polynomials of this degree
         before it enters the energy (an assumed-strain remedy of membrane locking: a
@@ -228,7 +229,7 @@ class KirchhoffLoveShell:
                  fixed_dofs=None, element=None, gravity=1.0,
                  edge_load: Optional[Callable] = None, end_moment=None,
                  surface_load=None, load_boundary: str = "free", rayleigh=(0.0, 0.0), intorder: int = 6,
-                 g: float = G0, chunk: int = 512, membrane_strain_degree=None,
+                 g: float = G0, membrane_strain_degree=None,
                  membrane_stabilization: float = 0.0, friction_tangent: str = "consistent"):
         self.mesh = mesh
         try:
@@ -255,7 +256,6 @@ class KirchhoffLoveShell:
         if len(rayleigh) != 2 or min(rayleigh) < 0:
             raise ShellInputError(f"rayleigh must be (alpha >= 0, beta >= 0), got {rayleigh}")
         self.rayleigh = tuple(float(r) for r in rayleigh)
-        self.chunk = int(chunk)
 
         self.strain_projection = None
         if membrane_strain_degree is not None:
@@ -271,6 +271,8 @@ class KirchhoffLoveShell:
         self.edofs = (3 * sdofs[:, :, None] + np.arange(3)).reshape(len(sdofs), -1)
         self.ndofs = 3 * self.basis.N
         self.pattern = SparsityPattern(self.edofs.T, self.ndofs)
+        self._csr_map = self.pattern.element_positions()
+        self._colours = kernels.element_colours(sdofs)
 
         if fixed_dofs is not None:
             self.fixed_dofs = np.unique(np.asarray(fixed_dofs, dtype=np.int64))
@@ -355,99 +357,115 @@ class KirchhoffLoveShell:
         return f
 
     # --------------------------------------------------------------- physics
-    def _chunks(self):
-        E = len(self.edofs)
-        for s in range(0, E, self.chunk):
-            yield slice(s, min(E, s + self.chunk))
-
     def _points(self, u, sl):
+        """:class:`drape.kinematics.KLPoint` of the elements ``sl`` (an independent,
+        vectorised check of the compiled kernels)."""
         ue = u[self.edofs[sl]].reshape(-1, self.nb, 3)
         return KLPoint(self.dN[sl], self.HN[sl], ue)
 
-    def _moments(self, kappa, elastic=False):
+    def _element_values(self, x):
+        """Element coefficients (E, nb, 3) of a global dof vector."""
+        return np.ascontiguousarray(np.asarray(x, dtype=float)[self.edofs].reshape(-1, self.nb, 3))
+
+    def _moments(self, kappa, elastic=False, friction_tangent=None):
         """Voigt moments and their tangents from the laws at Voigt curvature."""
         if elastic:
             k1w, k1f = self.warp_law.k1, self.weft_law.k1
             M1, D1 = k1w * kappa[..., 0], np.full(kappa.shape[:-1], k1w)
             M2, D2 = k1f * kappa[..., 1], np.full(kappa.shape[:-1], k1f)
         else:
-            M1, D1 = self.warp_state.trial(kappa[..., 0], self.friction_tangent)
-            M2, D2 = self.weft_state.trial(kappa[..., 1], self.friction_tangent)
+            mode = self.friction_tangent if friction_tangent is None else friction_tangent
+            M1, D1 = self.warp_state.trial(kappa[..., 0], mode)
+            M2, D2 = self.weft_state.trial(kappa[..., 1], mode)
         M = np.stack([M1, M2, 0.5 * self.twist * kappa[..., 2]], axis=-1)
         D = np.stack([D1, D2, np.full_like(D1, 0.5 * self.twist)], axis=-1)
         return M, D
 
-    def _internal(self, u, v=None, a=None, elastic_tangent=False):
+    def _viscosity(self):
+        """``[[d_warp, d_weft], [m_warp, m_weft]]``: the laws' viscosity and curvature inertia."""
+        return np.array([[self.warp_law.d, self.weft_law.d],
+                         [self.warp_law.m, self.weft_law.m]], dtype=float)
+
+    def _internal(self, u, v=None, a=None, elastic_tangent=False, *, friction_tangent=None,
+                  need_tangent=True):
         """Internal force and the data of (K, C_law, M_law) on the cell pattern.
 
         ``C_law``/``M_law`` are the law's viscous ``d ∫ ∂κᵀ∂κ`` and curvature
         inertia ``m ∫ ∂κᵀ∂κ`` in the current configuration; given ``v`` and ``a``,
         K includes the derivative of ``(C_law v + M_law a)`` with respect to u.
+
+        Parameters
+        ----------
+        friction_tangent : {"consistent", "nonnegative"}, optional
+            Tangent of the friction moment passed to the laws' ``trial``; None: the
+            shell's ``friction_tangent``.
+        need_tangent : bool
+            False: only the force; K, C_law and M_law are returned as None.
+
+        Returns
+        -------
+        fint : ndarray; Kd, Cd, Md : ndarray or None
+            CSR data on :attr:`pattern`; Cd and Md are None when the laws have no
+            viscosity or curvature inertia.
         """
-        nd = 3 * self.nb
-        E = len(self.edofs)
-        f = np.zeros((E, nd))
-        K = np.empty((E, nd, nd))
-        visc = np.array([[self.warp_law.d, self.weft_law.d],
-                         [self.warp_law.m, self.weft_law.m]], dtype=float)
+        if friction_tangent is not None:
+            try:
+                friction_tangent = check_friction_tangent(friction_tangent)
+            except ValueError as exc:
+                raise ShellInputError(str(exc)) from None
+        ue = self._element_values(u)
+        eps, kappa = self._kinematics(ue)
+        M, D = self._moments(kappa, elastic=elastic_tangent, friction_tangent=friction_tangent)
+        Nm = self._membrane_force(eps)
+        fe = np.empty((len(ue), 3 * self.nb))
+        if not need_tangent:
+            kernels.internal_force(ue, self.dN, self.HN, self.w, Nm, M, fe)
+            return self.pattern.vector(fe), None, None, None
+        visc = self._viscosity()
         has_visc = bool(np.any(visc != 0))
-        Cl = np.empty((E, nd, nd)) if has_visc else None
-        Ml = np.empty((E, nd, nd)) if has_visc else None
-        kps = [(sl, self._points(u, sl)) for sl in self._chunks()]
-        kappa = np.concatenate([kp.kappa for _, kp in kps])
-        Mall, Dall = self._moments(kappa, elastic=elastic_tangent)
-        for sl, kp in kps:
-            w = self.w[sl]
-            de = kp.strain_variation()
-            dk = kp.curvature_variation()
-            Nm = np.einsum("vw,eqw->eqv", self.C_m, self._membrane_strain(kp.strain))
-            M, D = Mall[sl], Dall[sl]
-            f[sl] = (np.einsum("eqvI,eqv->eI", de, Nm * w[..., None])
-                     + np.einsum("eqvI,eqv->eI", dk, M * w[..., None]))
-            Mgeo, Kv = M, 0.0
-            if has_visc:
-                dk2 = dk[:, :, :2]
-                for out, coef in ((Cl, visc[0]), (Ml, visc[1])):
-                    out[sl] = gram(dk2 * (w[..., None] * coef)[..., None], dk2) if np.any(coef) else 0.0
-                # ∂/∂u of ∫ (d κ̇ + m κ̈) ∂κ: moments d κ̇ + m κ̈ in the geometric
-                # term plus ∂κ ⊗ ∂κ̇/∂u (unsymmetric)
-                Mgeo = M.copy()
-                for rate, coef in ((v, visc[0]), (a, visc[1])):
-                    if rate is None or not np.any(coef):
-                        continue
-                    xe = rate[self.edofs[sl]].reshape(-1, self.nb, 3)
-                    kdot, g = kp.rate_variation(xe)
-                    Mgeo[..., :2] += coef * kdot[..., :2]
-                    Kv = Kv + gram(dk2 * (w[..., None] * coef)[..., None], g[:, :, :2])
-            K[sl] = kp.tangent(self.C_m, Nm, Mgeo, D, w, self.strain_projection) + Kv
-        fint = self.pattern.vector(f)
-        Kd = self.pattern.matrix(K).data
+        ve = ue * 0.0 if v is None else self._element_values(v)
+        ae = ue * 0.0 if a is None else self._element_values(a)
+        Kd, Cd, Md = self._tangent(ue, ve, ae, Nm, M, D, visc, fe)
+        fint = self.pattern.vector(fe)
         if not has_visc:
             return fint, Kd, None, None
-        return fint, Kd, self.pattern.matrix(Cl).data, self.pattern.matrix(Ml).data
+        return fint, Kd, Cd, Md
+
+    def _tangent(self, ue, ve, ae, Nm, M, D, visc, fe):
+        """Run the tangent kernel: element forces into ``fe``, (Kd, Cd, Md) returned."""
+        nnz = self.pattern.nnz
+        Kd, Cd, Md = np.zeros(nnz), np.zeros(nnz), np.zeros(nnz)
+        Q = np.eye(self.w.shape[1]) if self.strain_projection is None else self.strain_projection
+        order, start = self._colours
+        kernels.tangent(ue, ve, ae, self.dN, self.HN, self.w, np.ascontiguousarray(Q),
+                        np.ascontiguousarray(self.C_m, dtype=float), np.ascontiguousarray(Nm),
+                        np.ascontiguousarray(M), np.ascontiguousarray(D), visc, order, start,
+                        self._csr_map, fe, Kd, Cd, Md)
+        return Kd, Cd, Md
+
+    def _kinematics(self, ue):
+        """Membrane strain and curvature (Voigt), (E, q, 3) each, of element coefficients."""
+        eps, kappa = np.empty(self.w.shape + (3,)), np.empty(self.w.shape + (3,))
+        kernels.kinematics(ue, self.dN, self.HN, eps, kappa)
+        return eps, kappa
+
+    def _membrane_force(self, eps):
+        """Membrane forces ``C_m Q ε`` at the quadrature points, (E, q, 3)."""
+        return np.ascontiguousarray(np.einsum("vw,eqw->eqv", self.C_m, self._membrane_strain(eps)))
 
     def linear_stiffness(self):
         """Tangent stiffness of the flat, unstressed state (membrane + elastic bending).
 
         At ``u = 0`` the strain variation is ``sym ∇u_in-plane`` and the curvature
-        variation ``±∇∇u_z``; the geometric terms vanish. Assembled from the basis
-        arrays with two batched matmuls.
+        variation ``±∇∇u_z``; the geometric terms vanish.
         """
-        nb, E = self.nb, len(self.edofs)
-        dN, HN, w = self.dN, self.HN, self.w
-        de = np.zeros(w.shape + (3, nb, 3))
-        de[:, :, 0, :, 0] = dN[..., 0]
-        de[:, :, 1, :, 1] = dN[..., 1]
-        de[:, :, 2, :, 0] = dN[..., 1]
-        de[:, :, 2, :, 1] = dN[..., 0]
-        dk = np.zeros(w.shape + (3, nb, 3))
-        dk[..., 2] = np.swapaxes(HN, 2, 3)
-        de = de.reshape(w.shape + (3, 3 * nb))
-        dk = dk.reshape(w.shape + (3, 3 * nb))
-        D = np.array([self.warp_law.k1, self.weft_law.k1, 0.5 * self.twist])
-        CdE = np.einsum("vw,eqwI->eqvI", self.C_m, self._membrane_strain(de)) * w[..., None, None]
-        K = gram(de, CdE) + gram(dk, dk * (w[..., None] * D)[..., None])
-        return self.pattern.matrix(K)
+        ue = np.zeros((len(self.edofs), self.nb, 3))
+        zero = np.zeros(self.w.shape + (3,))
+        D = np.empty_like(zero)
+        D[...] = [self.warp_law.k1, self.weft_law.k1, 0.5 * self.twist]
+        fe = np.empty((len(ue), 3 * self.nb))
+        Kd, _, _ = self._tangent(ue, ue, ue, zero, zero, D, np.zeros((2, 2)), fe)
+        return self.pattern.from_data(Kd)
 
     def _edge_terms(self, u, t):
         """External edge force vector and the follower-moment load stiffness."""
@@ -591,15 +609,12 @@ class KirchhoffLoveShell:
 
     def _viscous_moments(self, u, v):
         """The laws' viscous moments ``d κ̇`` (warp, weft) at the quadrature points."""
-        d = np.array([self.warp_law.d, self.weft_law.d], dtype=float)
-        out = np.zeros(self.w.shape + (2,))
+        d = self._viscosity()[0]
         if not np.any(d):
-            return out
-        for sl in self._chunks():
-            kp = self._points(u, sl)
-            ve = v[self.edofs[sl]]
-            out[sl] = d * np.einsum("eqvI,eI->eqv", kp.curvature_variation()[:, :, :2], ve)
-        return out
+            return np.zeros(self.w.shape + (2,))
+        kdot = np.empty(self.w.shape + (3,))
+        kernels.curvature_rate(self._element_values(u), self._element_values(v), self.dN, self.HN, kdot)
+        return d * kdot[..., :2]
 
     def _membrane_strain(self, eps):
         """``Q eps`` (e, q, ...), whose forces ``C_m Q eps`` the membrane carries: the
@@ -611,12 +626,7 @@ class KirchhoffLoveShell:
 
     def qp_state(self, u):
         """Membrane strain and curvature (Voigt) at all quadrature points, (e, q, 3) each."""
-        eps, kap = [], []
-        for sl in self._chunks():
-            kp = self._points(u, sl)
-            eps.append(kp.strain)
-            kap.append(kp.kappa)
-        return np.concatenate(eps), np.concatenate(kap)
+        return self._kinematics(self._element_values(u))
 
     def quadrature_fields(self, u, v=None, a=None):
         """Curvatures, moments and friction moments at the quadrature points, (e, q) each.

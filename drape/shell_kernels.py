@@ -1,0 +1,555 @@
+"""Compiled element kernels of the Kirchhoff–Love shell: kinematics, internal force, tangent.
+
+The shell's residual and tangent are sums over triangles of quadrature-point terms
+that only involve the element's displacement, the scalar basis gradients ``N_b,α``
+and Voigt Hessians ``N_b,v`` (:mod:`drape.kinematics`). Every first variation at a
+point has the form
+
+    δ[b, k] = Σ_s φ_s[b] c_s[k],      φ = (N_b,1, N_b,2, N_b,11, N_b,22, 2 N_b,12),
+
+with a (5, 3) coefficient ``c`` (e.g. ``∂κ_v/∂u_bk = N_b,v n_k + N_b,1 (a2 × p_v)_k
++ N_b,2 (p_v × a1)_k``), and every term of the tangent the form
+``Σ_st φ_s[b] φ_t[c] Z_st[k, l]``. A point's whole contribution to the 63 × 63 element
+tangent is therefore a (5, 5, 3, 3) block ``Z`` contracted twice with ``φ``, which costs
+a fraction of the dense rank updates of the per-dof variations.
+
+The kernels run in parallel over the triangles of one colour of a colouring in which no
+two triangles of a colour share a dof, so each triangle scatters its tangent into the
+CSR data of the fixed pattern (:class:`drape.assembly.SparsityPattern`) through a
+precomputed element-to-CSR map without write conflicts.
+
+The bending laws stay outside: the kernels take the moments ``M``, their tangents
+``D`` and the membrane forces at the quadrature points, which the caller evaluates
+from :func:`kinematics`'s strain and curvature.
+
+Numba caches the compiled kernels on disk (``__pycache__`` next to this file, else the
+user's cache directory, or ``NUMBA_CACHE_DIR`` when set), so a fresh install compiles them
+once; with no writable directory they are compiled once per process. The kernels run on
+``NUMBA_NUM_THREADS`` threads (default: every core); set it to 1 where each core
+already runs its own process.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from numba import njit as _numba_njit
+from numba import prange
+
+__all__ = ["element_colours", "kinematics", "curvature_rate", "internal_force", "tangent"]
+
+
+def njit(*args, **options):
+    """``numba.njit`` with an on-disk cache where numba finds a writable cache directory
+    and without one (compiled once per process) where it finds none."""
+    def decorate(function):
+        try:
+            return _numba_njit(**options)(function)
+        except RuntimeError:          # "cannot cache function ...: no locator available"
+            options.pop("cache", None)
+            return _numba_njit(**options)(function)
+    return decorate(args[0]) if args else decorate
+
+
+def element_colours(element_dofs):
+    """Greedy colouring of elements such that no two of a colour share a dof.
+
+    Parameters
+    ----------
+    element_dofs : ndarray of int, shape (E, nb)
+
+    Returns
+    -------
+    order : ndarray of int, shape (E,)
+        Elements sorted by colour.
+    start : ndarray of int, shape (n_colours + 1,)
+        ``order[start[c]:start[c + 1]]`` are the elements of colour ``c``.
+
+    Examples
+    --------
+    >>> order, start = element_colours(np.array([[0, 1], [1, 2], [3, 4]]))
+    >>> [sorted(order[start[c]:start[c + 1]].tolist()) for c in range(len(start) - 1)]
+    [[0, 2], [1]]
+    """
+    element_dofs = np.asarray(element_dofs)
+    E = len(element_dofs)
+    incidence = sp.csr_matrix((np.ones(element_dofs.size), element_dofs.ravel(),
+                               np.arange(0, element_dofs.size + 1, element_dofs.shape[1])))
+    adjacency = (incidence @ incidence.T).tocsr()
+    colour = np.full(E, -1, dtype=np.int64)
+    for e in range(E):
+        taken = colour[adjacency.indices[adjacency.indptr[e]:adjacency.indptr[e + 1]]]
+        free = np.ones(len(taken) + 1, dtype=bool)
+        free[taken[(taken >= 0) & (taken < len(free))]] = False
+        colour[e] = int(np.argmax(free))
+    order = np.argsort(colour, kind="stable")
+    start = np.searchsorted(colour[order], np.arange(colour.max() + 2))
+    return order.astype(np.int64), start.astype(np.int64)
+
+
+@njit(cache=True, inline="always")
+def _cross(x, y, out):
+    out[0] = x[1] * y[2] - x[2] * y[1]
+    out[1] = x[2] * y[0] - x[0] * y[2]
+    out[2] = x[0] * y[1] - x[1] * y[0]
+
+
+@njit(cache=True)
+def _point(dN, HN, ue, a, h, n):
+    """Base vectors ``a`` (2, 3), Voigt ``u_,v`` + reference ``h`` (3, 3) and unit normal
+    ``n`` at one point; returns the area stretch ``j``. ``a`` holds ``g_α = u_,α`` on
+    return of the first loop and ``e_α + g_α`` at the end."""
+    nb = dN.shape[0]
+    a[:] = 0.0
+    h[:] = 0.0
+    for b in range(nb):
+        for k in range(3):
+            x = ue[b, k]
+            a[0, k] += dN[b, 0] * x
+            a[1, k] += dN[b, 1] * x
+            h[0, k] += HN[b, 0] * x
+            h[1, k] += HN[b, 1] * x
+            h[2, k] += HN[b, 2] * x
+    a[0, 0] += 1.0
+    a[1, 1] += 1.0
+    _cross(a[0], a[1], n)
+    j = np.sqrt(n[0] ** 2 + n[1] ** 2 + n[2] ** 2)
+    for k in range(3):
+        n[k] /= j
+    return j
+
+
+@njit(cache=True, parallel=True)
+def kinematics(ue, dN, HN, strain, kappa):
+    """Membrane strain and curvature (Voigt) at every quadrature point.
+
+    Parameters
+    ----------
+    ue : (E, nb, 3) element displacement coefficients
+    dN : (E, q, nb, 2), HN : (E, q, nb, 3) basis gradients and Voigt Hessians
+    strain, kappa : (E, q, 3) outputs, ``(E11, E22, 2 E12)`` and ``(κ11, κ22, 2 κ12)``
+    """
+    E, nq = dN.shape[0], dN.shape[1]
+    for e in prange(E):
+        a = np.empty((2, 3))
+        h = np.empty((3, 3))
+        n = np.empty(3)
+        for q in range(nq):
+            _point(dN[e, q], HN[e, q], ue[e], a, h, n)
+            # from g_α = a_α − e_α: no cancellation in a_α · a_α − 1
+            g00, g11 = a[0, 0] - 1.0, a[1, 1] - 1.0
+            gg00 = g00 * g00 + a[0, 1] ** 2 + a[0, 2] ** 2
+            gg11 = a[1, 0] ** 2 + g11 * g11 + a[1, 2] ** 2
+            gg01 = g00 * a[1, 0] + a[0, 1] * g11 + a[0, 2] * a[1, 2]
+            strain[e, q, 0] = g00 + 0.5 * gg00
+            strain[e, q, 1] = g11 + 0.5 * gg11
+            strain[e, q, 2] = a[0, 1] + a[1, 0] + gg01
+            for v in range(3):
+                kappa[e, q, v] = h[v, 0] * n[0] + h[v, 1] * n[1] + h[v, 2] * n[2]
+
+
+@njit(cache=True)
+def _variations(a, h, n, j, cde, cdk, p):
+    """Coefficients (5, 3) of ``∂ε_v`` and ``∂κ_v`` (v = 0..2) at a point, and
+    ``p_v = (I − n n) h_v / j``."""
+    cde[:] = 0.0
+    cdk[:] = 0.0
+    for k in range(3):
+        cde[0, 0, k] = a[0, k]
+        cde[1, 1, k] = a[1, k]
+        cde[2, 0, k] = a[1, k]
+        cde[2, 1, k] = a[0, k]
+    t = np.empty(3)
+    for v in range(3):
+        hn = h[v, 0] * n[0] + h[v, 1] * n[1] + h[v, 2] * n[2]
+        for k in range(3):
+            p[v, k] = (h[v, k] - hn * n[k]) / j
+        _cross(a[1], p[v], t)
+        cdk[v, 0] = t
+        _cross(p[v], a[0], t)
+        cdk[v, 1] = t
+        cdk[v, 2 + v] = n
+
+
+@njit(cache=True)
+def _phi(dN, HN, phi):
+    for b in range(dN.shape[0]):
+        phi[0, b] = dN[b, 0]
+        phi[1, b] = dN[b, 1]
+        phi[2, b] = HN[b, 0]
+        phi[3, b] = HN[b, 1]
+        phi[4, b] = HN[b, 2]
+
+
+@njit(cache=True, parallel=True)
+def internal_force(ue, dN, HN, w, Nm, M, fe):
+    """Element internal forces ``∫ ∂εᵀ N + ∂κᵀ M``, (E, 3 nb) into ``fe``.
+
+    ``Nm`` (E, q, 3) membrane forces, ``M`` (E, q, 3) moments (Voigt).
+    """
+    E, nq, nb = dN.shape[0], dN.shape[1], dN.shape[2]
+    for e in prange(E):
+        a = np.empty((2, 3))
+        h = np.empty((3, 3))
+        n = np.empty(3)
+        p = np.empty((3, 3))
+        cde = np.empty((3, 5, 3))
+        cdk = np.empty((3, 5, 3))
+        F = np.empty((5, 3))
+        phi = np.empty((5, nb))
+        fe[e] = 0.0
+        for q in range(nq):
+            j = _point(dN[e, q], HN[e, q], ue[e], a, h, n)
+            _variations(a, h, n, j, cde, cdk, p)
+            _phi(dN[e, q], HN[e, q], phi)
+            F[:] = 0.0
+            for v in range(3):
+                for s in range(5):
+                    for k in range(3):
+                        F[s, k] += Nm[e, q, v] * cde[v, s, k] + M[e, q, v] * cdk[v, s, k]
+            for b in range(nb):
+                for k in range(3):
+                    acc = 0.0
+                    for s in range(5):
+                        acc += phi[s, b] * F[s, k]
+                    fe[e, 3 * b + k] += w[e, q] * acc
+
+
+@njit(cache=True)
+def _rate(dN, HN, x, a, h, n, j, p, visc_v, wq, cdk, Mg, Z):
+    """Curvature rate of the field ``x`` and, with ``visc_v`` = (c_warp, c_weft), the
+    moments ``c κ̇`` added to ``Mg`` and ``w c ∂κ ⊗ ∂κ̇/∂u`` added to ``Z``."""
+    nb = dN.shape[0]
+    ad = np.zeros((2, 3))
+    hd = np.zeros((3, 3))
+    for b in range(nb):
+        for k in range(3):
+            ad[0, k] += dN[b, 0] * x[b, k]
+            ad[1, k] += dN[b, 1] * x[b, k]
+            for v in range(3):
+                hd[v, k] += HN[b, v] * x[b, k]
+    t1 = np.empty(3)
+    t2 = np.empty(3)
+    a3d = np.empty(3)
+    _cross(ad[0], a[1], t1)
+    _cross(a[0], ad[1], t2)
+    for k in range(3):
+        a3d[k] = t1[k] + t2[k]
+    na3 = n[0] * a3d[0] + n[1] * a3d[1] + n[2] * a3d[2]
+    nd = np.empty(3)
+    for k in range(3):
+        nd[k] = (a3d[k] - na3 * n[k]) / j
+    cg = np.zeros((5, 3))
+    y = np.empty(3)
+    for v in range(2):
+        if visc_v[v] == 0.0:
+            continue
+        hn = h[v, 0] * n[0] + h[v, 1] * n[1] + h[v, 2] * n[2]
+        ha3 = h[v, 0] * a3d[0] + h[v, 1] * a3d[1] + h[v, 2] * a3d[2]
+        hdn = hd[v, 0] * n[0] + hd[v, 1] * n[1] + hd[v, 2] * n[2]
+        kdot = hdn + h[v, 0] * nd[0] + h[v, 1] * nd[1] + h[v, 2] * nd[2]
+        Mg[v] += visc_v[v] * kdot
+        # ∂κ̇_v/∂u = h_v · ∂²n [∂u, ẋ] + ḣ_v · ∂n + ∂h_v · ṅ: every ∂a3 term is one vector y
+        for k in range(3):
+            y[k] = ((-na3 * h[v, k] - ha3 * n[k] - hn * a3d[k] + 3.0 * hn * na3 * n[k]) / (j * j)
+                    + (hd[v, k] - hdn * n[k]) / j)
+        cg[:] = 0.0
+        _cross(a[1], y, t1)
+        _cross(ad[1], p[v], t2)
+        for k in range(3):
+            cg[0, k] = t1[k] + t2[k]
+        _cross(y, a[0], t1)
+        _cross(p[v], ad[0], t2)
+        for k in range(3):
+            cg[1, k] = t1[k] + t2[k]
+            cg[2 + v, k] = nd[k]
+        c = wq * visc_v[v]
+        for s in range(5):
+            for k in range(3):
+                x_sk = c * cdk[v, s, k]
+                if x_sk == 0.0:
+                    continue
+                for t in range(5):
+                    for l in range(3):
+                        Z[s, t, k, l] += x_sk * cg[t, l]
+
+
+@njit(cache=True)
+def _contract(Z, phi, Wrow, Ke):
+    """``Ke[b, k, c, l] += Σ_st φ_s[b] φ_t[c] Z[s, t, k, l]`` (Ke as (nb, 3, nb, 3));
+    ``Wrow`` (5, 3, nb, 3) holds the half-contracted rows and may carry extra rows."""
+    nb = phi.shape[1]
+    for s in range(5):
+        for k in range(3):
+            for c in range(nb):
+                for l in range(3):
+                    acc = 0.0
+                    for t in range(5):
+                        acc += Z[s, t, k, l] * phi[t, c]
+                    Wrow[s, k, c, l] += acc
+    for b in range(nb):
+        for s in range(5):
+            f = phi[s, b]
+            if f == 0.0:
+                continue
+            for k in range(3):
+                for c in range(nb):
+                    for l in range(3):
+                        Ke[b, k, c, l] += f * Wrow[s, k, c, l]
+
+
+@njit(cache=True)
+def _outer_add(scale, x, y, Z):
+    """``Z[s, t, k, l] += scale x[s, k] y[t, l]``."""
+    for s in range(5):
+        for k in range(3):
+            xs = scale * x[s, k]
+            if xs == 0.0:
+                continue
+            for t in range(5):
+                for l in range(3):
+                    Z[s, t, k, l] += xs * y[t, l]
+
+
+@njit(cache=True, parallel=True)
+def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map,
+            fe, Kd, Cd, Md):
+    """Element internal force and the tangents, scattered into CSR data.
+
+    Parameters
+    ----------
+    ue, ve, ae : (E, nb, 3)
+        Element displacement, velocity and acceleration coefficients.
+    dN, HN, w : basis gradients (E, q, nb, 2), Voigt Hessians (E, q, nb, 3), weights (E, q).
+    Q : (q, q)
+        Assumed-strain operator (identity for the consistent strain).
+    C_m : (3, 3) membrane stiffness.
+    Nm, M, D : (E, q, 3)
+        Membrane forces ``C_m Q ε``, the laws' moments and their tangents ``dM_v/dκ_v``.
+    visc : (2, 2)
+        ``[[d_warp, d_weft], [m_warp, m_weft]]``: the laws' viscosity and curvature inertia.
+    order, start : element colouring (:func:`element_colours`).
+    csr_map : (E, 3 nb, 3 nb) int
+        Position of every element-matrix entry in the CSR data.
+    fe : (E, 3 nb) output element internal forces.
+    Kd, Cd, Md : (nnz,) outputs, zeroed by the caller
+        ``∂f/∂u`` (material + geometric + the configuration dependence of
+        ``d κ̇ + m κ̈``), the law's viscous ``d ∫ ∂κᵀ∂κ`` and inertia ``m ∫ ∂κᵀ∂κ``.
+    """
+    E, nq, nb = dN.shape[0], dN.shape[1], dN.shape[2]
+    has_c = visc[0, 0] != 0.0 or visc[0, 1] != 0.0
+    has_m = visc[1, 0] != 0.0 or visc[1, 1] != 0.0
+    for colour in range(len(start) - 1):
+        for i in prange(start[colour], start[colour + 1]):
+            e = order[i]
+            a = np.empty((nq, 2, 3))
+            h = np.empty((nq, 3, 3))
+            n = np.empty((nq, 3))
+            jq = np.empty(nq)
+            # membrane: ∂ε at every point first, the assumed strain couples the points
+            de = np.zeros((nq, 3, nb, 3))
+            for q in range(nq):
+                jq[q] = _point(dN[e, q], HN[e, q], ue[e], a[q], h[q], n[q])
+                for b in range(nb):
+                    for k in range(3):
+                        de[q, 0, b, k] = dN[e, q, b, 0] * a[q, 0, k]
+                        de[q, 1, b, k] = dN[e, q, b, 1] * a[q, 1, k]
+                        de[q, 2, b, k] = dN[e, q, b, 0] * a[q, 1, k] + dN[e, q, b, 1] * a[q, 0, k]
+            Ke = np.zeros((nb, 3, nb, 3))
+            Ce = np.zeros((nb, 3, nb, 3))
+            Me = np.zeros((nb, 3, nb, 3))
+            Wrow = np.empty((5, 3, nb, 3))
+            Z = np.empty((5, 5, 3, 3))
+            ZC = np.empty((5, 5, 3, 3))
+            ZM = np.empty((5, 5, 3, 3))
+            WC = np.empty((5, 3, nb, 3))
+            p = np.empty((3, 3))
+            cde = np.empty((3, 5, 3))
+            cdk = np.empty((3, 5, 3))
+            phi = np.empty((5, nb))
+            CQde = np.empty((3, nb, 3))
+            E0 = np.empty((3, 3))
+            E1 = np.empty((3, 3))
+            Pm = np.empty((3, 3))
+            cAn = np.zeros((5, 3))
+            cAm = np.zeros((5, 3))
+            ca3 = np.zeros((3, 5, 3))
+            ek = np.empty(3)
+            t = np.empty(3)
+            m = np.empty(3)
+            pm = np.empty(3)
+            Mg = np.empty(3)
+            F = np.empty((5, 3))
+            fe[e] = 0.0
+            for q in range(nq):
+                j = jq[q]
+                wq = w[e, q]
+                _variations(a[q], h[q], n[q], j, cde, cdk, p)
+                _phi(dN[e, q], HN[e, q], phi)
+                # ---- force
+                F[:] = 0.0
+                for v in range(3):
+                    for s in range(5):
+                        for k in range(3):
+                            F[s, k] += Nm[e, q, v] * cde[v, s, k] + M[e, q, v] * cdk[v, s, k]
+                for b in range(nb):
+                    for k in range(3):
+                        acc = 0.0
+                        for s in range(5):
+                            acc += phi[s, b] * F[s, k]
+                        fe[e, 3 * b + k] += wq * acc
+                # ---- membrane material part: w_p ∂ε_pᵀ C_m Σ_q Q_pq ∂ε_q, as rows s = α
+                CQde[:] = 0.0
+                for r in range(nq):
+                    Qr = wq * Q[q, r]
+                    if Qr == 0.0:
+                        continue
+                    for v in range(3):
+                        for x in range(3):
+                            cvx = Qr * C_m[v, x]
+                            if cvx == 0.0:
+                                continue
+                            for b in range(nb):
+                                for k in range(3):
+                                    CQde[v, b, k] += cvx * de[r, x, b, k]
+                Wrow[:] = 0.0
+                for v in range(3):
+                    for s in range(2):
+                        for k in range(3):
+                            c = cde[v, s, k]
+                            if c == 0.0:
+                                continue
+                            for b in range(nb):
+                                for l in range(3):
+                                    Wrow[s, k, b, l] += c * CQde[v, b, l]
+                # ---- bending material part and the viscous matrices
+                Z[:] = 0.0
+                for v in range(3):
+                    _outer_add(wq * D[e, q, v], cdk[v], cdk[v], Z)
+                # ---- moments of the geometric term: law + d κ̇ + m κ̈, and ∂κ ⊗ ∂κ̇/∂u
+                for v in range(3):
+                    Mg[v] = M[e, q, v]
+                if has_c:
+                    _rate(dN[e, q], HN[e, q], ve[e], a[q], h[q], n[q], j, p,
+                          visc[0], wq, cdk, Mg, Z)
+                if has_m:
+                    _rate(dN[e, q], HN[e, q], ae[e], a[q], h[q], n[q], j, p,
+                          visc[1], wq, cdk, Mg, Z)
+                # ---- membrane geometric part N_v ∂²ε_v (identity in k, l)
+                S00, S11, S01 = wq * Nm[e, q, 0], wq * Nm[e, q, 1], wq * Nm[e, q, 2]
+                for k in range(3):
+                    Z[0, 0, k, k] += S00
+                    Z[1, 1, k, k] += S11
+                    Z[0, 1, k, k] += S01
+                    Z[1, 0, k, k] += S01
+                # ---- bending geometric part Σ_v M_v ∂²κ_v
+                for k in range(3):
+                    m[k] = wq * (Mg[0] * h[q, 0, k] + Mg[1] * h[q, 1, k] + Mg[2] * h[q, 2, k])
+                nq_ = n[q]
+                mn = m[0] * nq_[0] + m[1] * nq_[1] + m[2] * nq_[2]
+                sg = mn / (j * j)
+                for k in range(3):
+                    pm[k] = (m[k] - mn * nq_[k]) / j
+                # ∂a3_i/∂u_bk = N_b,1 (e_k × a2)_i + N_b,2 (a1 × e_k)_i
+                for k in range(3):
+                    ek[:] = 0.0
+                    ek[k] = 1.0
+                    _cross(ek, a[q, 1], t)
+                    E0[k] = t
+                    _cross(a[q, 0], ek, t)
+                    E1[k] = t
+                for i in range(3):
+                    for k in range(3):
+                        ca3[i, 0, k] = E0[k, i]
+                        ca3[i, 1, k] = E1[k, i]
+                for k in range(3):
+                    cAn[0, k] = E0[k, 0] * nq_[0] + E0[k, 1] * nq_[1] + E0[k, 2] * nq_[2]
+                    cAn[1, k] = E1[k, 0] * nq_[0] + E1[k, 1] * nq_[1] + E1[k, 2] * nq_[2]
+                    cAm[0, k] = (E0[k, 0] * m[0] + E0[k, 1] * m[1] + E0[k, 2] * m[2]) / (j * j)
+                    cAm[1, k] = (E1[k, 0] * m[0] + E1[k, 1] * m[1] + E1[k, 2] * m[2]) / (j * j)
+                # m · ∂²(a3/j) [∂a3, ∂a3]
+                for i in range(3):
+                    _outer_add(-sg, ca3[i], ca3[i], Z)
+                _outer_add(3.0 * sg, cAn, cAn, Z)
+                _outer_add(-1.0, cAm, cAn, Z)
+                _outer_add(-1.0, cAn, cAm, Z)
+                # (P m / j) · ∂²a3 = (N_b,1 N_c,2 − N_b,2 N_c,1) pm · (e_k × e_l)
+                for kl in range(3):
+                    k, l, i = kl, (kl + 1) % 3, (kl + 2) % 3
+                    Z[0, 1, k, l] += pm[i]
+                    Z[0, 1, l, k] -= pm[i]
+                    Z[1, 0, k, l] -= pm[i]
+                    Z[1, 0, l, k] += pm[i]
+                # N_b,v M_v (∂n/∂u_cl)_k and its transpose, ∂n = (I − n n) ∂a3 / j
+                for k in range(3):
+                    for i in range(3):
+                        Pm[k, i] = ((1.0 if k == i else 0.0) - nq_[k] * nq_[i]) / j
+                for v in range(3):
+                    mv = wq * Mg[v]
+                    if mv == 0.0:
+                        continue
+                    for k in range(3):
+                        for l in range(3):
+                            x0 = mv * (Pm[k, 0] * E0[l, 0] + Pm[k, 1] * E0[l, 1] + Pm[k, 2] * E0[l, 2])
+                            x1 = mv * (Pm[k, 0] * E1[l, 0] + Pm[k, 1] * E1[l, 1] + Pm[k, 2] * E1[l, 2])
+                            Z[2 + v, 0, k, l] += x0
+                            Z[2 + v, 1, k, l] += x1
+                            Z[0, 2 + v, l, k] += x0
+                            Z[1, 2 + v, l, k] += x1
+                _contract(Z, phi, Wrow, Ke)
+                if has_c:
+                    ZC[:] = 0.0
+                    for v in range(2):
+                        _outer_add(wq * visc[0, v], cdk[v], cdk[v], ZC)
+                    WC[:] = 0.0
+                    _contract(ZC, phi, WC, Ce)
+                if has_m:
+                    ZM[:] = 0.0
+                    for v in range(2):
+                        _outer_add(wq * visc[1, v], cdk[v], cdk[v], ZM)
+                    WC[:] = 0.0
+                    _contract(ZM, phi, WC, Me)
+            Kf = Ke.reshape(3 * nb, 3 * nb)
+            Cf = Ce.reshape(3 * nb, 3 * nb)
+            Mf = Me.reshape(3 * nb, 3 * nb)
+            for I in range(3 * nb):
+                for J in range(3 * nb):
+                    pos = csr_map[e, I, J]
+                    Kd[pos] += Kf[I, J]
+                    if has_c:
+                        Cd[pos] += Cf[I, J]
+                    if has_m:
+                        Md[pos] += Mf[I, J]
+
+
+@njit(cache=True, parallel=True)
+def curvature_rate(ue, xe, dN, HN, out):
+    """Curvature rate ``κ̇ = ∂κ/∂u · ẋ`` (Voigt, (E, q, 3)) of the element rate ``xe``."""
+    E, nq, nb = dN.shape[0], dN.shape[1], dN.shape[2]
+    for e in prange(E):
+        a = np.empty((2, 3))
+        h = np.empty((3, 3))
+        n = np.empty(3)
+        t1 = np.empty(3)
+        t2 = np.empty(3)
+        for q in range(nq):
+            j = _point(dN[e, q], HN[e, q], ue[e], a, h, n)
+            ad = np.zeros((2, 3))
+            hd = np.zeros((3, 3))
+            for b in range(nb):
+                for k in range(3):
+                    x = xe[e, b, k]
+                    ad[0, k] += dN[e, q, b, 0] * x
+                    ad[1, k] += dN[e, q, b, 1] * x
+                    for v in range(3):
+                        hd[v, k] += HN[e, q, b, v] * x
+            _cross(ad[0], a[1], t1)
+            _cross(a[0], ad[1], t2)
+            for k in range(3):
+                t1[k] += t2[k]
+            na3 = n[0] * t1[0] + n[1] * t1[1] + n[2] * t1[2]
+            for v in range(3):
+                acc = 0.0
+                for k in range(3):
+                    acc += hd[v, k] * n[k] + h[v, k] * (t1[k] - na3 * n[k]) / j
+                out[e, q, v] = acc
