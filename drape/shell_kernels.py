@@ -10,8 +10,9 @@ point has the form
 with a (5, 3) coefficient ``c`` (e.g. ``∂κ_v/∂u_bk = N_b,v n_k + N_b,1 (a2 × p_v)_k
 + N_b,2 (p_v × a1)_k``), and every term of the tangent the form
 ``Σ_st φ_s[b] φ_t[c] Z_st[k, l]``. A point's whole contribution to the 63 × 63 element
-tangent is therefore a (5, 5, 3, 3) block ``Z`` contracted twice with ``φ``, which costs
-a fraction of the dense rank updates of the per-dof variations.
+tangent is therefore a (5, 5, 3, 3) block ``Z`` contracted twice with ``φ``: once per
+point, then over all points of a triangle in one matrix product, a fraction of the cost of
+dense rank updates of the per-dof variations.
 
 The kernels run in parallel over the triangles of one colour of a colouring in which no
 two triangles of a colour share a dof, so each triangle scatters its tangent into the
@@ -275,9 +276,8 @@ def _rate(dN, HN, x, a, h, n, j, p, visc_v, wq, cdk, Mg, Z):
 
 
 @njit(cache=True)
-def _contract(Z, phi, Wrow, Ke):
-    """``Ke[b, k, c, l] += Σ_st φ_s[b] φ_t[c] Z[s, t, k, l]`` (Ke as (nb, 3, nb, 3));
-    ``Wrow`` (5, 3, nb, 3) holds the half-contracted rows and may carry extra rows."""
+def _half(Z, phi, Wrow):
+    """``Wrow[s, k, c, l] += Σ_t Z[s, t, k, l] φ_t[c]``."""
     nb = phi.shape[1]
     for s in range(5):
         for k in range(3):
@@ -287,15 +287,6 @@ def _contract(Z, phi, Wrow, Ke):
                     for t in range(5):
                         acc += Z[s, t, k, l] * phi[t, c]
                     Wrow[s, k, c, l] += acc
-    for b in range(nb):
-        for s in range(5):
-            f = phi[s, b]
-            if f == 0.0:
-                continue
-            for k in range(3):
-                for c in range(nb):
-                    for l in range(3):
-                        Ke[b, k, c, l] += f * Wrow[s, k, c, l]
 
 
 @njit(cache=True)
@@ -355,14 +346,14 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
                         de[q, 0, b, k] = dN[e, q, b, 0] * a[q, 0, k]
                         de[q, 1, b, k] = dN[e, q, b, 1] * a[q, 1, k]
                         de[q, 2, b, k] = dN[e, q, b, 0] * a[q, 1, k] + dN[e, q, b, 1] * a[q, 0, k]
-            Ke = np.zeros((nb, 3, nb, 3))
-            Ce = np.zeros((nb, 3, nb, 3))
-            Me = np.zeros((nb, 3, nb, 3))
-            Wrow = np.empty((5, 3, nb, 3))
+            # Σ_q Σ_s φ_qs[b] W_q[s, k, c, l] as one matrix product over (q, s)
+            Phi = np.empty((nb, 5 * nq))
+            Wall = np.zeros((5 * nq, 3, nb, 3))
+            WCall = np.zeros((5 * nq, 3, nb, 3))
+            WMall = np.zeros((5 * nq, 3, nb, 3))
             Z = np.empty((5, 5, 3, 3))
             ZC = np.empty((5, 5, 3, 3))
             ZM = np.empty((5, 5, 3, 3))
-            WC = np.empty((5, 3, nb, 3))
             p = np.empty((3, 3))
             cde = np.empty((3, 5, 3))
             cdk = np.empty((3, 5, 3))
@@ -386,6 +377,10 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
                 wq = w[e, q]
                 _variations(a[q], h[q], n[q], j, cde, cdk, p)
                 _phi(dN[e, q], HN[e, q], phi)
+                Wrow = Wall[5 * q:5 * q + 5]
+                for s in range(5):
+                    for b in range(nb):
+                        Phi[b, 5 * q + s] = phi[s, b]
                 # ---- force
                 F[:] = 0.0
                 for v in range(3):
@@ -412,7 +407,6 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
                             for b in range(nb):
                                 for k in range(3):
                                     CQde[v, b, k] += cvx * de[r, x, b, k]
-                Wrow[:] = 0.0
                 for v in range(3):
                     for s in range(2):
                         for k in range(3):
@@ -496,22 +490,24 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
                             Z[2 + v, 1, k, l] += x1
                             Z[0, 2 + v, l, k] += x0
                             Z[1, 2 + v, l, k] += x1
-                _contract(Z, phi, Wrow, Ke)
+                _half(Z, phi, Wrow)
                 if has_c:
                     ZC[:] = 0.0
                     for v in range(2):
                         _outer_add(wq * visc[0, v], cdk[v], cdk[v], ZC)
-                    WC[:] = 0.0
-                    _contract(ZC, phi, WC, Ce)
+                    _half(ZC, phi, WCall[5 * q:5 * q + 5])
                 if has_m:
                     ZM[:] = 0.0
                     for v in range(2):
                         _outer_add(wq * visc[1, v], cdk[v], cdk[v], ZM)
-                    WC[:] = 0.0
-                    _contract(ZM, phi, WC, Me)
-            Kf = Ke.reshape(3 * nb, 3 * nb)
-            Cf = Ce.reshape(3 * nb, 3 * nb)
-            Mf = Me.reshape(3 * nb, 3 * nb)
+                    _half(ZM, phi, WMall[5 * q:5 * q + 5])
+            Kf = np.dot(Phi, Wall.reshape(5 * nq, 9 * nb)).reshape(3 * nb, 3 * nb)
+            Cf = Kf
+            Mf = Kf
+            if has_c:
+                Cf = np.dot(Phi, WCall.reshape(5 * nq, 9 * nb)).reshape(3 * nb, 3 * nb)
+            if has_m:
+                Mf = np.dot(Phi, WMall.reshape(5 * nq, 9 * nb)).reshape(3 * nb, 3 * nb)
             for I in range(3 * nb):
                 for J in range(3 * nb):
                     pos = csr_map[e, I, J]
