@@ -10,9 +10,14 @@ Defaults (documented, overridable in the file):
 * twist rigidity ``D_t = sqrt(k1_warp · k1_weft)``: the value an isotropic
   plate with ν = 0 would have in the energy ``½B1κ11² + ½B2κ22² + D_t κ12²``
   (docs/theory.md §1); fabrics have one, the thesis omitted it.
-* membrane (woven fabric: stiff along the yarns, soft in shear; KES gives no
-  direct in-plane stiffness): ``E11 = E22 = 1.0e4 N/m``, ``ν12 = 0``,
-  ``G12 = 50 N/m``.  Given in N/m in the ``[membrane]`` table.
+* membrane (woven fabric: stiff along the yarns, soft in shear):
+  ``E11 = E22 = 1.0e4 N/m``, ``ν12 = 0``, ``G12 = 50 N/m``, where neither the
+  ``[kes]`` sheet values (G, EMT, LT, WT, E; :mod:`constitutive.kes_sheet`) nor the
+  ``[membrane]`` table (N/m) give them. ``FabricMaterial.membrane_source`` says which.
+
+Weight and thickness are read as a KES sheet prints them, mg/cm² and mm (or as strings
+with units), and refused outside the range of woven and knitted fabrics
+(:mod:`constitutive.kes_sheet`).
 
 Building a material from KES summary values only (:func:`material_from_kes`)
 — most labs have just B, 2HB per direction and the weight.  Assumptions:
@@ -49,6 +54,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 
 from constitutive.friction import FrictionParams, ParameterError, friction_path
 from constitutive.kes import KesValues, kes_profile, kes_values, run_kes
+from constitutive.kes_sheet import KesFabricSpec, KesSpec, sheet_field  # noqa: F401 (re-exported)
 from constitutive.law import BendingLaw
 from constitutive.units import to_si
 from constitutive.validation import format_errors
@@ -74,7 +80,7 @@ class FabricMaterial:
     ----------
     name : str
     areal_mass : float
-        ρ_A [kg/m²] (KES weight gf/cm² × 10).
+        ρ_A [kg/m²] (KES weight mg/cm² / 100).
     thickness : float or None
         [m] (for output and contact only; bending comes from the laws).
     warp, weft : BendingLaw
@@ -84,7 +90,11 @@ class FabricMaterial:
     E11, E22, G12 : float
         Membrane stiffnesses [N/m]; ``nu12`` Poisson's ratio.
     kes : dict or None
-        KES summary values if known (SI): ``B_warp, B_weft, HB2_warp, HB2_weft``.
+        KES summary values if known (SI): ``B_warp, B_weft, HB2_warp, HB2_weft`` and those of
+        the other sheet values given (:meth:`constitutive.kes_sheet.KesSpec.extras_si`).
+    membrane_source : dict
+        Where each of E11, E22, nu12, G12 comes from (text); a key missing means "given in
+        code" (or the default, if it has the default value).
 
     Examples
     --------
@@ -106,6 +116,7 @@ class FabricMaterial:
     kes: dict | None = None
     description: str = ""
     source: str = ""
+    membrane_source: dict = field(default_factory=dict)
     _twist_default: bool = field(default=False, init=False, repr=False)
 
     def __post_init__(self):
@@ -125,6 +136,28 @@ class FabricMaterial:
             need(key, getattr(self, key) > 0, f"{key} > 0")
         need("nu12", 0 <= self.nu12 and self.nu12**2 * self.E22 / self.E11 < 1,
              "0 <= nu12 and nu12² E22/E11 < 1 (positive definite membrane stiffness)")
+
+    def describe(self) -> dict:
+        """What summary.json records of the material (SI): areal mass, thickness, twist
+        rigidity, each membrane stiffness with its source, and the KES sheet values given.
+
+        >>> m = FabricMaterial("demo", 0.2, None, BendingLaw(k1=4e-6), BendingLaw(k1=1e-6), G12=80.0)
+        >>> d = m.describe()["membrane"]
+        >>> d["G12"]["source"], d["E11"]["source"]
+        ('given', 'default')
+        """
+        membrane = {}
+        for key, default in DEFAULT_MEMBRANE.items():
+            value = float(getattr(self, key))
+            source = self.membrane_source.get(key, "default" if value == default else "given")
+            membrane[key] = {"value": value, "unit": "1" if key == "nu12" else "N/m", "source": source}
+        return {"areal_mass_kg_per_m2": float(self.areal_mass),
+                "thickness_m": None if self.thickness is None else float(self.thickness),
+                "twist_rigidity_Nm": float(self.twist_rigidity),
+                "twist_rigidity_source": "default sqrt(k1_warp k1_weft)" if self._twist_default
+                                         else "given",
+                "membrane": membrane,
+                "kes_si": {k: float(v) for k, v in (self.kes or {}).items()}}
 
     def simulated_kes(self, **profile_kw) -> dict:
         """B and 2HB of each direction from a simulated KES-FB test (SI)."""
@@ -173,6 +206,10 @@ class FabricMaterial:
         changes = {k: v for k, v in changes.items() if v is not None}
         if not changes:
             return self
+        overridden = [k for k in DEFAULT_MEMBRANE if k in changes]
+        if overridden:
+            changes["membrane_source"] = {**self.membrane_source,
+                                          **dict.fromkeys(overridden, "case [model.membrane]")}
         try:
             return self.replace(**changes)
         except ValueError as err:
@@ -207,7 +244,7 @@ def _calibrate(B, HB2, eps_f, eta, profile):
 
 def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thickness=None, *,
                       eps_f=20.0, eta=0.5, accel_time=None, twist_rigidity=None, description="",
-                      source="", **membrane) -> FabricMaterial:
+                      source="", membrane_source=None, sheet=None, **membrane) -> FabricMaterial:
     """Build a material from KES summary values only (all arguments SI).
 
     Parameters
@@ -218,7 +255,7 @@ def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thic
     HB2_warp, HB2_weft : float
         Hysteresis width 2HB [N·m/m] (KES gf·cm/cm × 9.80665e-3).
     areal_mass : float
-        [kg/m²] (KES weight gf/cm² × 10).
+        [kg/m²] (KES weight mg/cm² / 100).
     thickness : float, optional
         [m].
     eps_f, eta : float
@@ -228,6 +265,10 @@ def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thic
         :data:`constitutive.kes.DEFAULT_ACCEL_TIME`).
     twist_rigidity : float, optional
         [N·m], default sqrt(k1_warp k1_weft).
+    membrane_source : dict, optional
+        Where each membrane value comes from (:attr:`FabricMaterial.membrane_source`).
+    sheet : dict, optional
+        Other KES sheet values (SI), kept in ``kes`` beside B and 2HB.
     **membrane
         E11, E22, nu12, G12 [N/m].
 
@@ -241,7 +282,7 @@ def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thic
     --------
     >>> from constitutive.units import to_si
     >>> m = material_from_kes("x", to_si(0.08, "B"), to_si(0.06, "B"), to_si(0.04, "HB2"),
-    ...                       to_si(0.03, "HB2"), areal_mass=to_si(0.015, "weight"))
+    ...                       to_si(0.03, "HB2"), areal_mass=to_si(15.0, "weight"))
     >>> v = m.simulated_kes()["warp"]
     >>> round(v.B / to_si(0.08, "B"), 6), round(v.HB2 / to_si(0.04, "HB2"), 6)
     (1.0, 1.0)
@@ -260,8 +301,10 @@ def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thic
         raise MaterialError(f"{name}: unknown membrane key(s) {sorted(unknown)}; known: {sorted(DEFAULT_MEMBRANE)}")
     return FabricMaterial(name=name, areal_mass=float(areal_mass), thickness=thickness, warp=laws["warp"],
                           weft=laws["weft"], twist_rigidity=twist_rigidity,
-                          kes={"B_warp": B_warp, "B_weft": B_weft, "HB2_warp": HB2_warp, "HB2_weft": HB2_weft},
-                          description=description, source=source, **membrane)
+                          kes={"B_warp": B_warp, "B_weft": B_weft, "HB2_warp": HB2_warp, "HB2_weft": HB2_weft,
+                               **(sheet or {})},
+                          description=description, source=source,
+                          membrane_source=dict(membrane_source or {}), **membrane)
 
 
 # ---------------------------------------------------------------- TOML schema (KES units)
@@ -305,43 +348,14 @@ class LawSpec(_Strict):
         return BendingLaw(friction=fric, **si)
 
 
-class KesSpec(_Strict):
-    """A ``[kes]`` table of summary values (KES units)."""
-
-    B_warp: float = Field(gt=0, description="Bending rigidity B, warp direction [gf·cm²/cm].")
-    B_weft: float = Field(gt=0, description="Bending rigidity B, weft direction [gf·cm²/cm].")
-    HB2_warp: float = Field(ge=0, description="Hysteresis width 2HB at |κ| = 1 cm⁻¹, warp [gf·cm/cm].")
-    HB2_weft: float = Field(ge=0, description="Hysteresis width 2HB, weft [gf·cm/cm].")
-    eps_f: float = Field(0.2, gt=0, description="Friction length ε_f [cm⁻¹] of the calibrated "
-                                                 "friction (a1 = ε_f η).")
-    eta: float = Field(0.5, gt=0, lt=1, description="Ratio η of the friction lengths.")
-    accel_time: float | None = Field(None, gt=0, description="Acceleration time of the simulated "
-                                                            "KES-FB test [s] (default: the tester's).")
-
-
-class KesFabricSpec(KesSpec):
-    """A fabric known only from KES-FB summary values and its weight, in KES units as on the
-    tester's print-out (:func:`material_from_kes`: k3 = d = 0, first-order friction calibrated
-    so that the simulated KES-FB loop gives exactly B and 2HB)."""
-
-    weight: float = Field(gt=0, description="Fabric weight W [gf/cm²] (areal mass = 10 × W kg/m²).")
-    thickness: float | None = Field(None, gt=0, description="Thickness [cm].")
-
-    def material_spec(self, name: str, description: str = "", source: str = "") -> "MaterialSpec":
-        """The same fabric as a material file's tables (:class:`MaterialSpec`)."""
-        k = self.model_dump()
-        weight, thickness = k.pop("weight"), k.pop("thickness")
-        return MaterialSpec(name=name, description=description, source=source, weight=weight,
-                            thickness=thickness, kes=KesSpec(**k))
-
-
 class MembraneSpec(_Strict):
-    """A ``[membrane]`` table (N/m; KES has no direct in-plane stiffness)."""
+    """A ``[membrane]`` table (N/m); keys not given come from the ``[kes]`` sheet values (G,
+    EMT, LT, WT, E) if any, else :data:`DEFAULT_MEMBRANE`."""
 
-    E11: float = Field(DEFAULT_MEMBRANE["E11"], gt=0)
-    E22: float = Field(DEFAULT_MEMBRANE["E22"], gt=0)
-    nu12: float = Field(DEFAULT_MEMBRANE["nu12"], ge=0, lt=1)
-    G12: float = Field(DEFAULT_MEMBRANE["G12"], gt=0)
+    E11: float | None = Field(None, gt=0)
+    E22: float | None = Field(None, gt=0)
+    nu12: float | None = Field(None, ge=0, lt=1)
+    G12: float | None = Field(None, gt=0)
 
 
 class MaterialSpec(_Strict):
@@ -350,8 +364,8 @@ class MaterialSpec(_Strict):
     name: str
     description: str = ""
     source: str = ""
-    weight: float = Field(gt=0, description="gf/cm²")
-    thickness: float | None = Field(None, gt=0, description="cm")
+    weight: sheet_field("weight", description="Fabric weight W [mg/cm²], as a KES sheet prints it.")
+    thickness: sheet_field("thickness", None, "Thickness [mm], as a KES sheet prints it.")
     twist_rigidity: float | None = Field(None, gt=0, description="gf·cm²/cm")
     warp: LawSpec | None = None
     weft: LawSpec | None = None
@@ -364,7 +378,24 @@ class MaterialSpec(_Strict):
             raise ValueError("give both [warp] and [weft], or neither (then [kes])")
         if self.warp is None and self.kes is None:
             raise ValueError("needs [warp] and [weft] law tables or a [kes] table of summary values")
+        if self.kes is not None:
+            for key in self.kes.membrane()[0]:
+                if getattr(self.membrane, key) is not None:
+                    raise ValueError(f"membrane.{key} and the [kes] values that build it are both "
+                                     "given: keep one")
         return self
+
+    def membrane_values(self) -> tuple[dict, dict]:
+        """E11, E22, nu12, G12 [N/m] and where each comes from: the ``[kes]`` sheet, the
+        ``[membrane]`` table, or the default."""
+        values, sources = dict(DEFAULT_MEMBRANE), dict.fromkeys(DEFAULT_MEMBRANE, "default")
+        for key, value in self.membrane.model_dump(exclude_none=True).items():
+            values[key], sources[key] = value, "material file [membrane]"
+        if self.kes is not None:
+            sheet, why = self.kes.membrane()
+            values.update(sheet)
+            sources.update(why)
+        return values, sources
 
 
 def available_materials() -> list[str]:
@@ -387,10 +418,12 @@ def _resolve(name_or_path) -> Path:
 
 def material_from_spec(spec: MaterialSpec, where: str = "material") -> FabricMaterial:
     """Build a :class:`FabricMaterial` from a validated spec (KES units → SI)."""
+    membrane, membrane_source = spec.membrane_values()
     common = dict(areal_mass=to_si(spec.weight, "weight"),
                   thickness=None if spec.thickness is None else to_si(spec.thickness, "thickness"),
                   twist_rigidity=None if spec.twist_rigidity is None else to_si(spec.twist_rigidity, "B"),
-                  description=spec.description, source=spec.source, **spec.membrane.model_dump())
+                  description=spec.description, source=spec.source, membrane_source=membrane_source,
+                  **membrane)
     kes_si = None
     if spec.kes is not None:
         k = spec.kes
@@ -399,13 +432,16 @@ def material_from_spec(spec: MaterialSpec, where: str = "material") -> FabricMat
     try:
         if spec.warp is None:
             return material_from_kes(spec.name, **kes_si, eps_f=to_si(spec.kes.eps_f, "eps_f"),
-                                     eta=spec.kes.eta, accel_time=spec.kes.accel_time, **common)
+                                     eta=spec.kes.eta, accel_time=spec.kes.accel_time,
+                                     sheet=spec.kes.extras_si(), **common)
         laws = {}
         for key in ("warp", "weft"):
             try:
                 laws[key] = getattr(spec, key).to_law()
             except ParameterError as err:
                 raise MaterialError(f"{key}.{err}") from None
+        if kes_si is not None:
+            kes_si.update(spec.kes.extras_si())
         return FabricMaterial(name=spec.name, warp=laws["warp"], weft=laws["weft"], kes=kes_si, **common)
     except MaterialError as err:
         raise MaterialError(f"{where}: {err}") from None

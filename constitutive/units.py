@@ -19,8 +19,14 @@ m             gf·cm²·s²/cm        N·m·s²              (not printed: m was
 f1, f2, 2HB   gf·cm/cm            N·m/m = N           "gmf-cm"      (per width)
 eps_f         cm⁻¹                1/m                 "gmf-cm/cm"   (wrong: a path length in κ)
 eta           1                   1                   1
-weight        gf/cm²              (areal mass kg/m²)  "gmf/cm²"     (÷ g: 1 gf/cm² → 10 kg/m²)
-thickness     cm                  m                   cm
+weight        mg/cm²              (areal mass kg/m²)  "gmf/cm²"     (as a KES sheet: 1 mg/cm² = 0.01 kg/m²)
+thickness     mm                  m                   cm            (as a KES sheet)
+G             gf/(cm·degree)      N/m (per radian)    –             (KES-FB1 shear rigidity)
+HG2           gf/cm               N/m                 –             (2HG, 2HG5 shear hysteresis)
+EMT           %                   1                   –             (tensile strain at Fm)
+LT            1                   1                   –
+WT            gf·cm/cm²           N/m (J/m²)          –             (tensile energy)
+E_tensile     gf/cm               N/m                 –             (tensile stiffness, Fm)
 curvature     cm⁻¹                1/m                 cm⁻¹
 ============  ==================  ==================  =====================================
 
@@ -33,7 +39,7 @@ slope ``1.21e-2 gf·cm²/cm`` of Table B.1, ``s_p = 3 ε_f`` printed in cm⁻¹)
 9.80665e-05
 >>> round(to_kes(9.80665e-3, "f1"), 12)
 1.0
->>> round(to_si(0.01715, "weight"), 12)
+>>> round(to_si(17.15, "weight"), 12)
 0.1715
 """
 from __future__ import annotations
@@ -61,8 +67,10 @@ KES_UNITS = {
     "eps_f": "1/cm", "s_e": "1/cm", "s_p": "1/cm", "curvature": "1/cm",
     "k_F": "gf*cm**2/cm",
     "eta": "dimensionless",
-    "weight": "gf/cm**2",
-    "thickness": "cm",
+    "weight": "mg/cm**2",     # as a KES sheet prints it (the thesis's gf/cm² × 1000)
+    "thickness": "mm",
+    "G": "gf/cm/degree", "HG2": "gf/cm", "EMT": "percent", "LT": "dimensionless",
+    "WT": "gf*cm/cm**2", "E_tensile": "gf/cm",
     "rate": "1/cm/s",
     "time": "s",
 }
@@ -76,8 +84,10 @@ SI_UNITS = {
     "f1": "N", "f2": "N", "HB2": "N", "moment": "N", "f_k": "N", "f_s": "N",
     "eps_f": "1/m", "s_e": "1/m", "s_p": "1/m", "curvature": "1/m",
     "eta": "dimensionless",
-    "weight": "kg/m**2",      # areal mass: the KES weight is a force per area, divided by g
+    "weight": "kg/m**2",      # areal mass
     "thickness": "m",
+    "G": "N/m", "HG2": "N/m", "EMT": "dimensionless", "LT": "dimensionless", "WT": "N/m",
+    "E_tensile": "N/m",
     "rate": "1/m/s",
     "time": "s",
 }
@@ -93,8 +103,6 @@ def factor(name: str) -> float:
     if name not in KES_UNITS:
         raise KeyError(f"no KES unit known for {name!r}; known: {', '.join(sorted(KES_UNITS))}")
     q = ureg.Quantity(1.0, KES_UNITS[name])
-    if name == "weight":
-        q = q / ureg.Quantity(G0, "m/s**2")
     return float(f"{q.to(SI_UNITS[name]).magnitude:.15g}")   # drop pint round-off in the 16th digit
 
 

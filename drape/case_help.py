@@ -11,8 +11,9 @@ import json
 __all__ = ["describe"]
 
 _INTRO = [
-    "Case file schema (TOML). Numbers are SI; a dimensional number may also be a string",
-    'with units, e.g. length = "5 cm". Unknown keys are errors.',
+    "Case file schema (TOML). Numbers are SI, except in [material.kes] (the units a KES sheet",
+    'prints); a dimensional number may also be a string with units, e.g. length = "5 cm".',
+    "Unknown keys are errors.",
     "",
 ]
 

@@ -162,6 +162,8 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
             "steps": rec.step - 1, "vtu_files": len(writer.datasets), "pvd": writer.pvd_path.name,
             "final": {k: v for k, v in ctx.history[-1].items() if k != "step"},
         }
+        if hasattr(parts.material, "describe"):   # SI values, membrane sources, KES sheet given
+            summary["material_properties"] = parts.material.describe()
         if status in ("completed", "settled") and case.case.analysis != "none":
             analysis = ANALYSES[case.case.analysis]
             try:

@@ -19,8 +19,8 @@ def test_unit_factors_are_design_values():
     assert factor("d") == pytest.approx(GF * 1e-2, rel=1e-15)        # gf·cm²·s/cm → N·m·s
     assert factor("m") == pytest.approx(GF * 1e-2, rel=1e-15)
     assert factor("eps_f") == 100.0 and factor("curvature") == 100.0
-    assert factor("weight") == pytest.approx(10.0, rel=1e-15)        # gf/cm² → kg/m² areal mass
-    assert factor("thickness") == 0.01
+    assert factor("weight") == pytest.approx(0.01, rel=1e-15)        # mg/cm² → kg/m² areal mass
+    assert factor("thickness") == 0.001                               # mm → m
     assert to_kes(to_si(0.0123, "k3"), "k3") == pytest.approx(0.0123, rel=1e-15)
     np.testing.assert_allclose(to_si(np.array([1.0, 2.0]), "HB2"), [GF, 2 * GF])
     with pytest.raises(KeyError, match="no KES unit known for 'k2'"):
@@ -104,7 +104,7 @@ def test_material_from_kes_rejects_bad_values():
 
 GOOD = """
 name = "t"
-weight = 0.02
+weight = 20
 [warp]
 k1 = 0.01
 f1 = 0.2
@@ -122,7 +122,9 @@ k1_neg = 0.004
     (("k1 = 0.01", 'k1 = "stiff"'), "warp.k1 = 'stiff': must be a number"),
     (("f1 = 0.2", "f1 = 0.1"), "warp: f1 = 0.1 with f2 = 0.1 breaks f1 > f2 >= 0"),
     (("eta = 0.5", "eta = 1.5"), "warp: eta = 1.5 breaks 0 < eta < 1"),
-    (("weight = 0.02", "weight = -0.02"), "weight = -0.02: must be > 0"),
+    (("weight = 20", "weight = -20"), "weight = -20: outside 1–100 mg/cm² of woven and knitted fabrics"),
+    (("weight = 20", "weight = 0.02"), "weight = 0.02: outside 1–100 mg/cm² of woven and knitted "
+                                       "fabrics; looks like gf/cm² (or g/cm²): 0.02 gf/cm² = 20 mg/cm²"),
     (("f2 = 0.1\n", ""), "warp: friction needs all of f1, f2, eps_f, eta (missing f2)"),
     (("[weft]\nk1 = 0.005\nk1_neg = 0.004\n", ""), "give both [warp] and [weft]"),
     (("name = \"t\"", "name = \"t\"\n[membrane]\nnu12 = 2.0"), "membrane.nu12 = 2.0"),

@@ -360,8 +360,8 @@ def test_cantilever_runs_short_from_the_command_line(tmp_path):
 
 
 def test_kes_summary_material_uses_the_material_library_units():
-    """[material.kes] takes the KES units of cases/materials (docs/theory.md §1): W 0.0125 gf/cm² is 0.125 kg/m²,
-    0.030 cm is 3e-4 m; B in gf·cm²/cm (× 9.80665e-5 N·m) comes back from the built law's simulated loop."""
+    """[material.kes] takes the units a KES sheet prints (docs/theory.md §1): W 12.5 mg/cm² is 0.125 kg/m²,
+    0.30 mm is 3e-4 m; B in gf·cm²/cm (× 9.80665e-5 N·m) comes back from the built law's simulated loop."""
     case = load_case(Path(__file__).parents[1] / "cases" / "cusick_kes.toml")
     material = runner.build_material(case)
     assert material.areal_mass == pytest.approx(0.125, rel=1e-12)
