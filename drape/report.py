@@ -3,7 +3,9 @@
 For a sweep folder (``results.csv`` from :mod:`drape.sweep`) the report has the results
 table, the drape coefficient against the bending length c = (B/W)^(1/3) (with the measured
 values when the run table had a ``measured.DC`` column), a top view of every run and links
-to the PVD files. For a single run folder (``summary.json`` from :mod:`drape.run`) it has
+to the PVD files, and the seed ensembles when there are any (``ensemble.json`` of
+``--seeds``: DC and nodes as mean ± standard deviation, the node-count histogram and how
+many seeds agreed). For a single run folder (``summary.json`` from :mod:`drape.run`) it has
 the summary, the history of the energies and a top view.
 
 The page is self-contained: inline CSS, pictures as base64 PNG data URIs, no scripts and no
@@ -216,6 +218,8 @@ def sweep_report(out_dir) -> str:
     fig = dc_figure(records)
     body.append(f'<img alt="DC against bending length" src="{_data_uri(fig, dpi=100)}">' if fig
                 else '<p class="note">No run has a drape coefficient (Cusick runs have one).</p>')
+    if (out_dir / "ensemble.json").exists():
+        body += _ensemble_table(json.loads((out_dir / "ensemble.json").read_text()))
     head = ["name", "top view", *inputs, "status", *_SHOWN.values(), "c [cm]", "reason", "files"]
     body += ["<h2>Results</h2>", "<table>", "<tr>" + "".join(f"<th>{_e(h)}</th>" for h in head)
              + "</tr>"]
@@ -243,6 +247,31 @@ def sweep_report(out_dir) -> str:
                 "c = (B/W)<sup>1/3</sup> with B the geometric mean of the warp and weft "
                 "rigidities of the simulated KES-FB test and W the weight per area.</p>")
     return _page(f"Sweep {out_dir.name}", body)
+
+
+def _ensemble_table(data: dict) -> list[str]:
+    """HTML rows of the seed ensembles (:mod:`drape.ensemble`)."""
+    def pm(s):
+        if s["mean"] is None:
+            return ""
+        return _fmt(s["mean"]) + ("" if s["std"] is None else f" ± {_fmt(s['std'])}")
+
+    head = ["ensemble", "seeds finished", "DC [%] mean ± sd", "DC min–max", "nodes mean ± sd",
+            "node histogram", "agreement", "measured"]
+    out = ["<h2>Seed ensembles</h2>",
+           f'<p class="note">Each row run under the seeds of {_e(data["seed_key"])}; sd is the '
+           "sample standard deviation.</p>", "<table>",
+           "<tr>" + "".join(f"<th>{_e(h)}</th>" for h in head) + "</tr>"]
+    for e in data["ensembles"]:
+        dc, nodes = e["DC_percent"], e["nodes"]
+        span = f"{_fmt(dc['min'])}–{_fmt(dc['max'])}" if dc["min"] is not None else ""
+        hist = " ".join(f"{k}: {v}" for k, v in nodes["histogram"].items())
+        measured = ", ".join(f"{k} {v}" for k, v in e.get("measured", {}).items())
+        cells = [e["name"], f"{e['finished']} / {e['runs']}", pm(dc), span, pm(nodes), hist,
+                 nodes["agreement"], measured]
+        out.append("<tr>" + "".join(f'<td class="text">{c}</td>' if i in (0, 5, 6, 7) else f"<td>{c}</td>"
+                                    for i, c in enumerate(map(_e, cells))) + "</tr>")
+    return out + ["</table>"]
 
 
 def run_report(run_dir) -> str:

@@ -1,6 +1,6 @@
 """Drape a catalogue: one base case, many runs, on Dask.
 
-``python -m drape.sweep BASE.toml (--table RUNS.csv | --grid KEY=V1,V2,... ...) --out DIR``
+``python -m drape.sweep BASE.toml [--table RUNS.csv | --grid KEY=V1,V2,... ...] [--seeds N] --out DIR``
 
 Each run is an ordinary case run (:func:`drape.run.run_case`) of the base case with the row's
 keys overridden, in its own folder ``DIR/runs/<name>/``. The runs are Dask tasks: on an
@@ -14,7 +14,9 @@ otherwise), any case keys by their dotted names as columns (values read like ``-
 values; an empty cell keeps the base case's value), and columns ``measured.<quantity>`` that
 are not case keys but measurements copied into the results (``measured.DC``, the measured
 drape coefficient in %, is drawn beside the computed one in the report). A grid is the
-product of the values given for each key.
+product of the values given for each key. ``--seeds N`` runs every row (or the base case
+alone) under the perturbation seeds 0 .. N-1 and writes ``DIR/ensemble.json``, the seed
+ensemble of each row (:mod:`drape.ensemble`).
 
 ``DIR/results.csv`` gets one row per finished run as soon as it finishes: the inputs, the
 status, the drape coefficient and nodes (Cusick runs), the settling time, the wall time and,
@@ -76,6 +78,7 @@ class SweepRow:
     name: str
     keys: dict = field(default_factory=dict)       # dotted case key -> value text
     measured: dict = field(default_factory=dict)   # "measured.<quantity>" -> value text
+    group: str = ""                                # the seed ensemble it belongs to
 
     def overrides(self) -> list[str]:
         """The row as ``--set`` items."""
@@ -383,7 +386,8 @@ def run_sweep(case_path, rows: list[SweepRow], out, *, overrides: list[str] | No
 
 def _write_definition(out: Path, case_path: str, rows: list[SweepRow], overrides: list[str]):
     data = {"case": case_path, "set": overrides,
-            "rows": [{"name": r.name, "keys": r.keys, "measured": r.measured} for r in rows]}
+            "rows": [{"name": r.name, "keys": r.keys, "measured": r.measured, "group": r.group}
+                     for r in rows]}
     tmp = out / ".sweep.json.tmp"
     tmp.write_text(json.dumps(data, indent=1))
     os.replace(tmp, out / "sweep.json")
@@ -394,7 +398,7 @@ def _read_definition(out: Path):
     if not path.exists():
         raise SweepError(f"--resume: {path} does not exist; give the case and --table or --grid")
     data = json.loads(path.read_text())
-    rows = [SweepRow(r["name"], r["keys"], r["measured"]) for r in data["rows"]]
+    rows = [SweepRow(r["name"], r["keys"], r["measured"], r.get("group", "")) for r in data["rows"]]
     return data["case"], rows, data["set"]
 
 
@@ -410,6 +414,7 @@ def _parser() -> argparse.ArgumentParser:
                "--out out/catalogue\n"
                "  python -m drape.sweep cases/cantilever.toml --grid material.bending_scale=0.5,1,2 "
                "--out out/scale\n"
+               "  python -m drape.sweep cases/cusick_kes.toml --seeds 5 --out out/seeds\n"
                "  python -m drape.sweep --resume --out out/catalogue\n"
                "  python -m drape.sweep ... --scheduler tcp://10.0.0.5:8786   (an existing "
                "cluster)\n\n"
@@ -421,6 +426,8 @@ def _parser() -> argparse.ArgumentParser:
     rows.add_argument("--table", metavar="CSV", help="run table: name, case keys, measured.*")
     rows.add_argument("--grid", metavar="KEY=V1,V2", action="append",
                       help="values of one case key; repeat for a product of several keys")
+    p.add_argument("--seeds", type=int, metavar="N", help="run every row (or the case alone) under "
+                   "the perturbation seeds 0..N-1; DIR/ensemble.json summarises each row's seeds")
     p.add_argument("--out", metavar="DIR", required=True, help="sweep folder")
     p.add_argument("--set", metavar="KEY=VALUE", action="append", default=[], dest="overrides",
                    help="override a case key in every run (as in drape.run)")
@@ -447,12 +454,16 @@ def main(argv: list[str] | None = None) -> int:
                 raise SweepError("the base case file is required (or --resume --out DIR)")
             case_path, rows, overrides = _read_definition(out)
         else:
-            if not (args.table or args.grid):
-                raise SweepError("give the runs: --table CSV or --grid KEY=V1,V2,...")
-            rows = read_table(args.table) if args.table else grid_rows(args.grid)
+            if not (args.table or args.grid or args.seeds):
+                raise SweepError("give the runs: --table CSV, --grid KEY=V1,V2,... or --seeds N")
+            rows = read_table(args.table) if args.table else grid_rows(args.grid) if args.grid else None
             case_path, overrides = args.case, args.overrides
             if not Path(case_path).exists():
                 raise SweepError(f"case file {case_path!r} does not exist")
+            if args.seeds is not None:
+                from drape.ensemble import seeded
+
+                rows = _checked(seeded(case_path, overrides, rows, args.seeds), "--seeds")
         with sigterm_raises():
             records = run_sweep(case_path, rows, out, overrides=overrides,
                                 scheduler=args.scheduler, workers=args.workers,
@@ -474,9 +485,12 @@ def main(argv: list[str] | None = None) -> int:
             why = f": {rec['reason']}" if rec["reason"] else ""
             print(f"{rec['name']}: {rec['status']}{dc}{why}")
         print(f"results in {out / 'results.csv'}")
+    from drape.ensemble import describe_ensemble, ensembles, write_ensembles
     from drape.report import write_report
 
     try:
+        if write_ensembles(out) is not None and not args.quiet:
+            print("\n".join(describe_ensemble(e) for e in ensembles(out)))
         report = write_report(out)
     except Exception as exc:  # the runs and results.csv are done; the page can be made again
         print(f"report.html not written ({_one_line(exc)}); try python -m drape.report {out}",
