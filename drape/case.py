@@ -70,7 +70,8 @@ from drape.loads import (Amplitude, EndMoment, Gravity, KesDrive, LoadSpec,  # n
                          Perturbation, Pressure)
 from drape.schema import (CaseInfo, CusickMesh, Damping, FileMesh, LawOverride,  # noqa: F401
                           CaseMaterial, Membrane, MeshSpec, ModelSpec, OutputSpec,
-                          RectangleMesh, SolverSpec, StopSpec, StripMesh, _rule, _Section)
+                          MeasuredSpec, RectangleMesh, SolverSpec, StopSpec, StripMesh, _rule,
+                          _Section)
 
 __all__ = [
     "Case",
@@ -107,6 +108,8 @@ class Case(_Section):
     """[output]: VTU / history options."""
     stop: StopSpec = StopSpec()
     """[stop]: settling criterion."""
+    measured: MeasuredSpec | None = None
+    """[measured]: the real test's results, for comparison (not used by the run)."""
 
     @model_validator(mode="after")
     def _consistent(self):

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["top_view_figure", "dc_figure", "history_figure", "sweep_report", "run_report",
+__all__ = ["top_view_figure", "draw_top_view", "dc_figure", "history_figure", "sweep_report", "run_report",
            "write_report", "main"]
 
 _CSS = """
@@ -76,6 +76,13 @@ def top_view_figure(vtu_path, size: float = 2.4):
 
     Returns a matplotlib ``Figure`` (not attached to pyplot).
     """
+    fig = _figure((size, size))
+    draw_top_view(fig.add_subplot(), vtu_path)
+    return fig
+
+
+def draw_top_view(ax, vtu_path) -> None:
+    """Draw :func:`top_view_figure`'s picture on the matplotlib axes ``ax`` (in cm)."""
     import meshio
     from matplotlib.collections import LineCollection
     from matplotlib.tri import Triangulation
@@ -85,8 +92,6 @@ def top_view_figure(vtu_path, size: float = 2.4):
     x0 = np.asarray(mesh.points, dtype=float)
     u = np.asarray(mesh.point_data.get("displacement", np.zeros_like(x0)), dtype=float)
     x = x0 + np.pad(u, ((0, 0), (0, 3 - u.shape[1])))
-    fig = _figure((size, size))
-    ax = fig.add_subplot()
     scale = 100.0   # cm, as a drape meter's scale reads
     deformed = Triangulation(scale * x[:, 0], scale * x[:, 1], tri)
     ax.tripcolor(deformed, scale * x[:, 2], shading="gouraud", cmap="viridis")
@@ -98,7 +103,6 @@ def top_view_figure(vtu_path, size: float = 2.4):
     ax.set_aspect("equal")
     ax.set_xticks([])
     ax.set_yticks([])
-    return fig
 
 
 def _number(text) -> float:

@@ -164,6 +164,8 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
         }
         if hasattr(parts.material, "describe"):   # SI values, membrane sources, KES sheet given
             summary["material_properties"] = parts.material.describe()
+        if case.measured is not None:
+            summary["measured"] = case.measured.model_dump()
         if status in ("completed", "settled") and case.case.analysis != "none":
             analysis = ANALYSES[case.case.analysis]
             try:

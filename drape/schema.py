@@ -393,6 +393,21 @@ class OutputSpec(_Section):
     """Fields kept in the VTU files (displacement is always kept); default: all the model gives."""
 
 
+# --------------------------------------------------------------------------- [measured]
+class MeasuredSpec(_Section):
+    """[measured]: what the real test of this specimen gave, for comparison. Not used by the
+    run; copied into summary.json and shown beside the simulated values by ``drape.validate``."""
+
+    DC_percent: float | None = Field(None, ge=0, le=100)
+    """Measured drape coefficient [%] (the mean over the specimens tested)."""
+    nodes: int | None = Field(None, ge=0)
+    """Measured number of nodes (folds)."""
+    source: str = ""
+    """Where the measured values come from (publication, table)."""
+    setup: str = ""
+    """How they were measured (tester, specimen and disc diameters, standard)."""
+
+
 # --------------------------------------------------------------------------- [stop]
 class StopSpec(_Section):
     """[stop]: end the run early once the fabric has settled."""
