@@ -221,6 +221,20 @@ class FrictionState:
         self._cache = (np.array(kappa, dtype=float, copy=True), y1, y2)
         return p.f1 * y1 - p.f2 * y2, p.f1 * dy1 - p.f2 * dy2
 
+    def stick_tangent(self):
+        """``dM_f/dκ`` of a point that sticks at its committed curvature.
+
+        The one-sided value ``f1 (1 + |y1|)/a1 − f2 (1 + |y2|)/a2`` of :meth:`trial`
+        at Δκ = 0: a tangent that does not change within a step, the friction
+        counterpart of an initial-stiffness tangent.
+
+        >>> st = FrictionState(FrictionParams(1.0, 0.0, 1.0, 0.5), shape=(1,))
+        >>> st.stick_tangent()
+        array([2.])
+        """
+        p = self.params
+        return p.f1 * (1.0 + np.abs(self.y1)) * self._inv_a1 - p.f2 * (1.0 + np.abs(self.y2)) * self._inv_a2
+
     def moment(self, kappa):
         """Friction moment alone at a trial curvature (no mutation)."""
         (y1, _), (y2, _) = self._update(kappa, False)

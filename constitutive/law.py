@@ -171,7 +171,7 @@ class BendingLaw:
 
 
 #: Newton tangents of the friction moment :meth:`BendingState.trial` offers.
-FRICTION_TANGENTS = ("consistent", "nonnegative")
+FRICTION_TANGENTS = ("consistent", "nonnegative", "stick")
 
 
 def check_friction_tangent(name: str) -> str:
@@ -211,8 +211,11 @@ class BendingState:
         ----------
         kappa : array_like
             Trial curvature [1/m].
-        friction_tangent : {"consistent", "nonnegative"}
-            ``"nonnegative"`` floors the friction part of ``dM`` at zero. Where the slow
+        friction_tangent : {"consistent", "nonnegative", "stick"}
+            ``"stick"`` is the tangent of a point that sticks at its committed
+            curvature (:meth:`FrictionState.stick_tangent`, floored at zero), fixed
+            within a step: Newton's fallback where the consistent one cycles
+            between stick and slip. ``"nonnegative"`` floors the friction part of ``dM`` at zero. Where the slow
             Dahl term overtakes the fast one after a reversal the friction moment falls
             with curvature; with Fabric 2's weft as printed (ε_f = 7.6e-4 cm⁻¹) the total
             tangent falls to −51 k1 on loading from rest (``tests/test_law.py``). The
@@ -239,6 +242,8 @@ class BendingState:
             Mf, dMf = self.friction.trial(kappa)
             if friction_tangent == "nonnegative":
                 dMf = np.maximum(dMf, 0.0)
+            elif friction_tangent == "stick":
+                dMf = np.maximum(self.friction.stick_tangent(), 0.0)
             M, dM = M + Mf, dM + dMf
         if np.shape(M) != self.shape:   # scalar parameters with a scalar trial: full arrays
             M, dM = np.broadcast_to(M, self.shape).copy(), np.broadcast_to(dM, self.shape).copy()

@@ -6,11 +6,42 @@ analyses (:mod:`drape.analyses`) use nothing else of them.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["StructuralModel"]
+__all__ = ["StructuralModel", "Evaluation"]
+
+
+@dataclass
+class Evaluation:
+    """Forces of a model at a state ``(u, v, a, t)`` and, if asked for, their derivatives.
+
+    The residual of the equation of motion is ``inertia + force``; HHT-α weights the two
+    parts differently, hence they are kept apart.
+
+    Attributes
+    ----------
+    inertia : ndarray
+        ``M a`` (with the law's curvature inertia, if any).
+    force : ndarray
+        Everything else: ``C v + f_int(u) − f_ext(u, t)``, friction included.
+    K, C, M : scipy.sparse.csr_matrix or None
+        ``∂R/∂u``, ``∂R/∂v``, ``∂R/∂a`` (None when no tangent was asked for); the same
+        CSR pattern for all three lets the integrator add their data directly.
+    """
+
+    inertia: np.ndarray
+    force: np.ndarray
+    K: object = None
+    C: object = None
+    M: object = None
+
+    @property
+    def residual(self) -> np.ndarray:
+        """``M a + C v + f_int − f_ext``."""
+        return self.inertia + self.force
 
 
 @runtime_checkable
@@ -25,6 +56,7 @@ class StructuralModel(Protocol):
     ndofs: int
     fixed_dofs: np.ndarray
     load_scale: float
+    seconds: dict   # wall time of "law" (the laws' trial moments) and "assembly" (the rest of evaluate)
 
     # ------------------------------------------------------------------ loads and time
     @property
@@ -37,9 +69,24 @@ class StructuralModel(Protocol):
     def force_scale(self, t: float) -> float:
         """A typical force norm (full self-weight, edge loads) for relative residual tests."""
 
+    def lifting(self, t: float):
+        """``(u_p, v_p, a_p)``: a full-size field carrying the imposed motion with its exact
+        rates, or None (the imposed dofs then get Newmark-consistent rates)."""
+
     # ------------------------------------------------------------------ forces
+    @property
+    def symmetric_tangent(self) -> bool:
+        """True when every tangent :meth:`evaluate` returns is symmetric (a symmetric
+        factorisation is then valid)."""
+
+    def evaluate(self, u, v, a, t: float, tangent: str | None = None) -> Evaluation:
+        """Forces at ``(u, v, a, t)``; with ``tangent`` (a name of
+        :data:`constitutive.law.FRICTION_TANGENTS`) also ``K, C, M`` with that
+        material tangent. Does not change the model's committed state."""
+
     def residual(self, u, v, a, t: float):
-        """``R = M a + C v + f_int(u) − f_ext(t)`` and its derivatives ``(K, C, M)``."""
+        """``R = M a + C v + f_int(u) − f_ext(t)`` and its derivatives ``(K, C, M)``
+        (:meth:`evaluate` with the model's own friction tangent)."""
 
     def commit(self, u, v, a) -> None:
         """Accept a converged state (law states, work ledgers)."""

@@ -34,6 +34,7 @@ True
 """
 from __future__ import annotations
 
+import time
 from typing import Callable, Mapping
 
 import numpy as np
@@ -48,6 +49,7 @@ import skfem
 
 from .boundary import pure_bending_rotations, straight_edge
 from .loads import as_function
+from .model import Evaluation
 from .assembly import (
     SparsityPattern,
     at_quadrature,
@@ -227,6 +229,7 @@ class KirchhoffPlate:
         self.friction_work = 0.0
         self.damping_work = 0.0
         self._t_last = 0.0
+        self.seconds = {"law": 0.0, "assembly": 0.0}
 
         self._setup_boundaries(supports, rotations)
         self._liftings = self._build_liftings()
@@ -366,23 +369,38 @@ class KirchhoffPlate:
         ue = self.pattern.gather(u)
         return {d: at_quadrature(B, ue) for d, B in self._B.items()}
 
-    def residual(self, u, v, a, t: float):
-        """``R = M a + C v + f_int(u) − f_ext(t)`` and its derivatives ``(K, C, M)`` w.r.t. u, v, a."""
+    symmetric_tangent = True   # bending, twist, Rayleigh damping and mass are all symmetric
+
+    def evaluate(self, u, v, a, t: float, tangent: str | None = None) -> Evaluation:
+        """``M a`` and ``C v + f_int(u) − f_ext(t)``; with a friction ``tangent`` name also
+        ``(K, C, M)`` (one CSR pattern)."""
         self._t_last = float(t)
+        t0 = time.perf_counter()
         ue = self.pattern.gather(u)
         nq = self._dx.shape[1]
         kappa = at_quadrature(self._B_dirs, ue)  # κ_xx and κ_yy stacked along the quadrature axis
-        moment, tangent = np.empty_like(kappa), np.empty_like(kappa)
+        t1 = time.perf_counter()
+        moment, dmoment = np.empty_like(kappa), np.empty_like(kappa)
         for j, d in enumerate(("xx", "yy")):
             sl = slice(j * nq, (j + 1) * nq)
-            moment[:, sl], tangent[:, sl] = self.states[d].trial(kappa[:, sl], self.friction_tangent)
-        fe = element_vector(self._B_dirs, moment, self._dx_dirs)
-        ke = element_matrix(self._B_dirs, self._B_dirs, self._dx_dirs, tangent)
-        f_int = self.pattern.vector(fe) + self.K_twist @ u
-        K = self.pattern.matrix(ke)
-        K.data += self._twist_data
-        R = self.M @ a + self.C @ v + f_int - self.external_force(t)
-        return R, K, self.C, self.M
+            moment[:, sl], dmoment[:, sl] = self.states[d].trial(kappa[:, sl], tangent or self.friction_tangent)
+        t2 = time.perf_counter()
+        f_int = self.pattern.vector(element_vector(self._B_dirs, moment, self._dx_dirs)) + self.K_twist @ u
+        force = self.C @ v + f_int - self.external_force(t)
+        K = None
+        if tangent is not None:
+            K = self.pattern.matrix(element_matrix(self._B_dirs, self._B_dirs, self._dx_dirs, dmoment))
+            K.data += self._twist_data
+        self.seconds["law"] += t2 - t1
+        self.seconds["assembly"] += time.perf_counter() - t2 + t1 - t0
+        if K is None:
+            return Evaluation(self.M @ a, force)
+        return Evaluation(self.M @ a, force, K, self.C, self.M)
+
+    def residual(self, u, v, a, t: float):
+        """``R = M a + C v + f_int(u) − f_ext(t)`` and its derivatives ``(K, C, M)`` w.r.t. u, v, a."""
+        ev = self.evaluate(u, v, a, t, self.friction_tangent)
+        return ev.residual, ev.K, ev.C, ev.M
 
     def commit(self, u, v, a) -> None:
         """Accept the converged step: commit the friction states and book the dissipated work."""

@@ -302,7 +302,7 @@ class ModelSpec(_Section):
     (0: pure assumed strain; 0.01–0.1 suppresses the spurious in-plane modes of degrees 0–2;
     1: the consistent strain)."""
 
-    friction_tangent: Literal["consistent", "nonnegative"] = "consistent"
+    friction_tangent: Literal["consistent", "nonnegative", "stick"] = "consistent"
     """Newton's tangent of the friction moment: ``nonnegative`` floors it at zero where the
     law softens (the moment falls with curvature after a reversal, e.g. Fabric 2's weft as
     printed: −51 k1), which otherwise sends Newton off. The solution is unchanged."""

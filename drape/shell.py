@@ -43,6 +43,7 @@ True
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from typing import Callable, Optional, Sequence
 
@@ -59,6 +60,7 @@ from drape.assembly import SparsityPattern
 from drape import shell_kernels as kernels
 from drape.kinematics import KLPoint, assumed_strain_operator, basis_arrays
 from drape.loads import as_function
+from drape.model import Evaluation
 
 #: Private attributes :meth:`KirchhoffLoveShell.commit` keeps besides the laws' states.
 _SHELL_STATE = ("t_last", "friction_work", "damping_work", "u_committed", "v_committed",
@@ -295,6 +297,7 @@ class KirchhoffLoveShell:
         zero = np.zeros(self.ndofs)
         self.load_scale = 1.0
         self._t_last = 0.0
+        self.seconds = {"law": 0.0, "assembly": 0.0}
         self._K0 = self.linear_stiffness()
         self._friction_work = self._damping_work = 0.0
         self._u_committed, self._v_committed = zero.copy(), zero.copy()   # at rest
@@ -396,7 +399,7 @@ class KirchhoffLoveShell:
 
         Parameters
         ----------
-        friction_tangent : {"consistent", "nonnegative"}, optional
+        friction_tangent : {"consistent", "nonnegative", "stick"}, optional
             Tangent of the friction moment passed to the laws' ``trial``; None: the
             shell's ``friction_tangent``.
         need_tangent : bool
@@ -413,22 +416,28 @@ class KirchhoffLoveShell:
                 friction_tangent = check_friction_tangent(friction_tangent)
             except ValueError as exc:
                 raise ShellInputError(str(exc)) from None
+        t0 = time.perf_counter()
         ue = self._element_values(u)
         eps, kappa = self._kinematics(ue)
+        t1 = time.perf_counter()
         M, D = self._moments(kappa, elastic=elastic_tangent, friction_tangent=friction_tangent)
+        t2 = time.perf_counter()
         Nm = self._membrane_force(eps)
         fe = np.empty((len(ue), 3 * self.nb))
         if not need_tangent:
             kernels.internal_force(ue, self.dN, self.HN, self.w, Nm, M, fe)
-            return self.pattern.vector(fe), None, None, None
-        visc = self._viscosity()
-        has_visc = bool(np.any(visc != 0))
-        ve = ue * 0.0 if v is None else self._element_values(v)
-        ae = ue * 0.0 if a is None else self._element_values(a)
-        Kd, Cd, Md = self._tangent(ue, ve, ae, Nm, M, D, visc, fe)
+            Kd = Cd = Md = None
+        else:
+            visc = self._viscosity()
+            has_visc = bool(np.any(visc != 0))
+            ve = ue * 0.0 if v is None else self._element_values(v)
+            ae = ue * 0.0 if a is None else self._element_values(a)
+            Kd, Cd, Md = self._tangent(ue, ve, ae, Nm, M, D, visc, fe)
+            if not has_visc:
+                Cd = Md = None
         fint = self.pattern.vector(fe)
-        if not has_visc:
-            return fint, Kd, None, None
+        self.seconds["law"] += t2 - t1
+        self.seconds["assembly"] += time.perf_counter() - t2 + t1 - t0
         return fint, Kd, Cd, Md
 
     def _tangent(self, ue, ve, ae, Nm, M, D, visc, fe):
@@ -519,33 +528,94 @@ class KirchhoffLoveShell:
         fe, _ = self._edge_terms(u, t)
         return self.load_scale * (self._dead_surface_force(t) + fe)
 
-    def residual(self, u, v, a, t):
-        """Residual and its derivatives.
+    @property
+    def symmetric_tangent(self) -> bool:
+        """Symmetric tangents unless the law's viscosity or curvature inertia (their
+        configuration dependence) or a follower end moment enter ``K``."""
+        return not np.any(self._viscosity()) and (self.edge is None or self.end_moment is None)
 
-        ``R = M a + C v + f_int(u) − f_ext(u, t)``, with ``C = α M + β K0``
-        plus the law's viscous term ``d κ̇`` (and curvature inertia ``m κ̈``)
-        linearised about the current configuration.
+    def lifting(self, t):
+        """No imposed motion: None."""
+        return None
+
+    def evaluate(self, u, v, a, t, tangent=None):
+        """Forces ``M a`` and ``C v + f_int(u) − f_ext(u, t)`` at a state, and with a tangent name
+        their derivatives.
+
+        ``C = α M + β K0`` plus the law's viscous term ``d κ̇``; ``M`` includes the law's
+        curvature inertia ``m κ̈``; both are linearised about the current configuration.
+
+        Parameters
+        ----------
+        tangent : {"consistent", "nonnegative", "stick"}, optional
+            Friction tangent of ``K``; None: forces only (no tangent is assembled).
 
         Returns
         -------
-        R : ndarray; K, C, M : scipy.sparse.csr_matrix
-            ``∂R/∂u`` (consistent, including the configuration dependence of
-            the law's viscous and curvature-inertia terms), ``∂R/∂v``, ``∂R/∂a``;
-            all three on one CSR pattern.
+        drape.model.Evaluation
+            ``K`` (consistent, including the configuration dependence of the law's
+            viscous and curvature-inertia terms), ``C`` and ``M`` on one CSR pattern.
         """
         self._t_last = t
-        fint, Kd, Cd, Md = self._internal(u, v, a)
+        u, v, a = (np.asarray(x, dtype=float) for x in (u, v, a))
         fe, Kl = self._edge_terms(u, t)
         alpha, beta = self.rayleigh
+        lam = self.load_scale
+        f_ext = lam * (self._dead_surface_force(t) + fe)
+        if tangent is None:
+            fint, f_inertia = self._internal_forces(u, v, a)
+            inertia = self._M @ a + f_inertia
+            force = alpha * (self._M @ v) + beta * (self._K0 @ v) + fint - f_ext
+            return Evaluation(inertia, force)
+        fint, Kd, Cd, Md = self._internal(u, v, a, friction_tangent=tangent)
         Cd = alpha * self._M.data + beta * self._K0.data + (0.0 if Cd is None else Cd)
         Md = self._M.data + (0.0 if Md is None else Md)
-        lam = self.load_scale
         if Kl is not None:
             Kd = Kd + lam * Kl
-        # one CSR pattern for K, C and M: the integrator can add their data directly
+        # one CSR pattern for K, C and M: the integrator adds their data directly
         K, C, M = (self.pattern.from_data(d) for d in (Kd, Cd, Md))
-        R = M @ a + C @ v + fint - lam * (self._dead_surface_force(t) + fe)
-        return R, K, C, M
+        return Evaluation(M @ a, C @ v + fint - f_ext, K, C, M)
+
+    def residual(self, u, v, a, t):
+        """``R = M a + C v + f_int(u) − f_ext(u, t)`` and ``(K, C, M)`` (:meth:`evaluate` with
+        the shell's friction tangent)."""
+        ev = self.evaluate(u, v, a, t, self.friction_tangent)
+        return ev.residual, ev.K, ev.C, ev.M
+
+    def _internal_forces(self, u, v, a):
+        """Internal force with the law's viscous moments, and the law's curvature-inertia force.
+
+        The same forces as the tangent pass (``f_int + C_law v`` and ``M_law a``, with
+        ``C_law = d ∫ ∂κᵀ∂κ``): the viscous moment ``d ∂κ·v`` joins the bending moment.
+        """
+        t0 = time.perf_counter()
+        ue = self._element_values(u)
+        eps, kappa = self._kinematics(ue)
+        t1 = time.perf_counter()
+        M, _ = self._moments(kappa)
+        t2 = time.perf_counter()
+        visc = self._viscosity()
+        inertia = 0.0
+        if np.any(visc):
+            rate = np.empty(self.w.shape + (3,))
+            for row, x in ((0, v), (1, a)):
+                if not np.any(visc[row]):
+                    continue
+                kernels.curvature_rate(ue, self._element_values(x), self.dN, self.HN, rate)
+                extra = np.zeros_like(M)
+                extra[..., :2] = visc[row] * rate[..., :2]
+                if row == 0:
+                    M = M + extra
+                else:
+                    fe = np.empty((len(ue), 3 * self.nb))
+                    kernels.internal_force(ue, self.dN, self.HN, self.w, np.zeros_like(M), extra, fe)
+                    inertia = self.pattern.vector(fe)
+        fe = np.empty((len(ue), 3 * self.nb))
+        kernels.internal_force(ue, self.dN, self.HN, self.w, self._membrane_force(eps),
+                               np.ascontiguousarray(M), fe)
+        self.seconds["law"] += t2 - t1
+        self.seconds["assembly"] += time.perf_counter() - t2 + t1 - t0
+        return self.pattern.vector(fe), inertia
 
     def force_scale(self, t):
         """Typical size of the external force (for relative residual tests): the full

@@ -14,6 +14,7 @@ import pytest
 import pyvista
 import scipy.sparse as sp
 
+from drape.model import Evaluation
 from drape import analyses
 from drape import run as runner
 from drape.settling import settling_threshold
@@ -42,15 +43,23 @@ class VertexOscillators:
         self.M, self.K, self.C = m * eye, k * eye, c * eye
         self.commits = 0
 
+    symmetric_tangent = True
+
     def prescribed(self, t):
         return None
 
-    def residual(self, u, v, a, t):
+    def lifting(self, t):
+        return None
+
+    def force_scale(self, t):
+        return 0.0
+
+    def evaluate(self, u, v, a, t, tangent=None):
         f = -self.load_scale * self.gravity(t) * self.m * G * np.ones(self.ndofs)
-        R = self.M @ a + self.C @ v + self.K @ u - f
+        force = self.C @ v + self.K @ u - f
         if t > self.fail_after:
-            R = R * np.nan
-        return R, self.K, self.C, self.M
+            force = force * np.nan
+        return Evaluation(self.M @ a, force, *((self.K, self.C, self.M) if tangent else ()))
 
     def commit(self, u, v, a):
         self.commits += 1
