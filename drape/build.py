@@ -163,3 +163,20 @@ def initial_fields(case: Case, model):
 
     x0 = perturbation_dofs(model.basis, fold)
     return (x0, None) if fold.target == "displacement" else (None, x0)
+
+
+def solver_options(case: Case, model) -> dict:
+    """Newton tolerances, policy and one linear solver for every phase of a run.
+
+    Newton tries the case's friction tangent first and the law's stick tangent after it
+    (:class:`drape.newton.NewtonPolicy`); the direct solver is symmetric when the model's
+    tangents are, and keeps its symbolic analysis for the whole run.
+    """
+    from drape.linsolve import DirectSolver
+    from drape.newton import NewtonPolicy
+
+    s = case.solver
+    tangents = tuple(dict.fromkeys((case.model.friction_tangent, "stick")))
+    return dict(rtol=s.rtol, atol=s.atol, du_rtol=s.du_rtol, du_atol=s.du_atol, max_iter=s.max_iter,
+                policy=NewtonPolicy(tangents=tangents),
+                linear_solver=DirectSolver(symmetric=model.symmetric_tangent, backend=s.linear_solver))

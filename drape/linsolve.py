@@ -22,7 +22,7 @@ Two back ends:
   back to partial pivoting when that fails; available everywhere.
 
 ``"auto"`` takes PARDISO where it loads (x86-64 with ``pypardiso`` installed)
-and SuperLU otherwise.
+for systems of :data:`PARDISO_MIN_ORDER` unknowns or more, and SuperLU otherwise.
 
 Examples
 --------
@@ -39,6 +39,9 @@ True
 from __future__ import annotations
 
 import ctypes
+import glob
+import os
+import sys
 import time
 
 import numpy as np
@@ -48,6 +51,8 @@ import scipy.sparse.linalg as spla
 __all__ = ["LinearSolverError", "FreeRestriction", "DirectSolver", "pardiso_available"]
 
 BACKENDS = ("auto", "pardiso", "superlu")
+#: "auto" takes SuperLU below this order: PARDISO's thread start-up outweighs its speed there.
+PARDISO_MIN_ORDER = 2000
 
 
 class LinearSolverError(RuntimeError):
@@ -113,12 +118,26 @@ class FreeRestriction:
 
 
 def _mkl_pardiso():
-    """MKL's ``pardiso`` entry point as configured by pypardiso, or None."""
-    try:
-        from pypardiso.pardiso_wrapper import PyPardisoSolver
-        return PyPardisoSolver()._mkl_pardiso
-    except Exception:  # noqa: BLE001 - not installed, no MKL for this platform: use SuperLU
-        return None
+    """MKL's ``pardiso`` entry point from the ``mkl_rt`` library, or None.
+
+    The library is the one pypardiso's ``mkl`` dependency installs into the environment's
+    ``lib``; pypardiso itself is not imported (it searches the whole of ``sys.prefix`` for
+    that library when imported, a second or more).
+    """
+    names = [os.path.join(sys.prefix, "lib", "libmkl_rt.so*"), os.path.join(sys.prefix, "lib", "libmkl_rt*.dylib"),
+             os.path.join(sys.prefix, "Library", "bin", "mkl_rt*.dll")]
+    for path in sorted(p for pattern in names for p in glob.glob(pattern)):
+        try:
+            function = ctypes.CDLL(path).pardiso
+        except (OSError, AttributeError):
+            continue
+        c_int = ctypes.POINTER(ctypes.c_int32)
+        function.argtypes = [ctypes.POINTER(ctypes.c_int64), c_int, c_int, c_int, c_int, c_int,
+                             ctypes.c_void_p, c_int, c_int, c_int, c_int, c_int, c_int,
+                             ctypes.c_void_p, ctypes.c_void_p, c_int]
+        function.restype = None
+        return function
+    return None
 
 
 _PARDISO = None
@@ -236,6 +255,7 @@ class DirectSolver:
         The matrices are symmetric: only their upper triangles are used
         (give them as :class:`FreeRestriction` ``upper=True`` output or in full).
     backend : {"auto", "pardiso", "superlu"}
+        ``"auto"`` is decided at the first factorisation, by the order of the matrix.
 
     Attributes
     ----------
@@ -248,12 +268,11 @@ class DirectSolver:
     def __init__(self, symmetric: bool = False, backend: str = "auto"):
         if backend not in BACKENDS:
             raise ValueError(f"backend = {backend!r}: must be one of {BACKENDS}")
-        if backend == "auto":
-            backend = "pardiso" if pardiso_available() else "superlu"
         self.backend = backend
         self.symmetric = bool(symmetric)
-        self._impl = _Pardiso(self.symmetric) if backend == "pardiso" else _SuperLU(self.symmetric)
+        self._impl = None
         self._pattern = self._input = self._triu = None
+        self._ready = False
         self.analyses = self.factorizations = self.solves = 0
         self.seconds = {"analysis": 0.0, "factorization": 0.0, "solve": 0.0}
 
@@ -271,16 +290,30 @@ class DirectSolver:
         elif not A.has_sorted_indices:
             A = A.sorted_indices()
         A.indptr, A.indices = A.indptr.astype(np.int32, copy=False), A.indices.astype(np.int32, copy=False)
+        if self._impl is None:
+            self._impl = self._backend(A.shape[0])
         if not _same_pattern(A, self._pattern):
             self._impl.analyse(A)
             self._pattern = (A.indptr, A.indices)
             self.analyses += 1
         t1 = time.perf_counter()
+        self._ready = False
         self._impl.factorize(A)
+        self._ready = True
         self.factorizations += 1
         t2 = time.perf_counter()
         self.seconds["analysis"] += t1 - t0
         self.seconds["factorization"] += t2 - t1
+
+    def _backend(self, n: int):
+        if self.backend == "auto":
+            self.backend = "pardiso" if n >= PARDISO_MIN_ORDER and pardiso_available() else "superlu"
+        return _Pardiso(self.symmetric) if self.backend == "pardiso" else _SuperLU(self.symmetric)
+
+    @property
+    def size(self) -> int:
+        """Order of the standing factorisation (0 before the first)."""
+        return len(self._pattern[0]) - 1 if self._ready else 0
 
     def solve(self, b) -> np.ndarray:
         """``A⁻¹ b`` with the last factorisation; LinearSolverError if the result is not finite."""

@@ -18,6 +18,7 @@ from drape.checkpoint import Checkpoint, write_checkpoint
 from drape.newmark import StepControl
 from drape.output import OutputSchedule, OutputWriter, flat_fields
 from drape.probes import DisplacementProbe
+from drape.profile import RunProfile
 from drape.settling import Settling, settling_threshold
 
 __all__ = ["Recorder", "progress_bar"]
@@ -43,14 +44,26 @@ class Recorder:
         self.last_written = None
         self.stop_reason = None
         self.control = None        # the integrator's step control after the last step
+        self.profile = RunProfile()
 
     def __call__(self, state, info=None) -> bool:
+        t0 = time.perf_counter()
+        try:
+            return self._record(state, info)
+        finally:
+            self.profile.output_s += time.perf_counter() - t0
+
+    def _record(self, state, info) -> bool:
         model = self.ctx.model
+        if info is not None:
+            self.profile.add(info)
         fields = flat_fields(model.fields(state.u, state.v, state.a), self.ctx.mesh)
         energies = {k: float(v) for k, v in model.energies(state.u, state.v, t=state.t).items()}
         row = {"step": self.step, "t": float(state.t),
                "dt": float(getattr(info, "dt", 0.0)),
                "iterations": int(getattr(info, "iterations", 0)),
+               "evaluations": int(getattr(info, "evaluations", 0)),
+               "factorizations": int(getattr(info, "factorizations", 0)),
                "cuts": int(getattr(info, "cuts", 0))}
         row.update(energies)
         row.update(self.probe(fields["displacement"]))

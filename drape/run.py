@@ -27,7 +27,8 @@ from pathlib import Path
 import numpy as np
 
 from drape.analyses import ANALYSES, RunContext
-from drape.build import Parts, RunInputError, build, build_material, build_mesh, initial_fields
+from drape.build import (Parts, RunInputError, build, build_material, build_mesh, initial_fields,
+                         solver_options)
 from drape.case import Case, CaseError, describe_schema, dump_case, load_case
 from drape.checkpoint import Checkpoint, read_checkpoint
 from drape.output import OutputWriter, read_history
@@ -116,8 +117,7 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
             state0 = rec.restore(resume, read_history(writer.history_path))
             log.info("resumed at t = %.6g s (step %d)", state0.t, rec.step - 1)
         t_eps = 1e-12 * max(solver.t_end, solver.dt)
-        newton = dict(rtol=solver.rtol, atol=solver.atol, du_rtol=solver.du_rtol,
-                      du_atol=solver.du_atol, max_iter=solver.max_iter)
+        newton = solver_options(case, model)
         try:
             if solver.quasi_static:
                 times = np.union1d(pseudo_times(solver.dt, solver.t_end), hit_times(case))
@@ -133,6 +133,7 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
                         state = newmark.integrate(model, t_stop, solver.dt, state=state, dt_max=dt_max,
                                                   beta=solver.newmark_beta, gamma=solver.newmark_gamma,
                                                   alpha_hht=solver.alpha_hht, max_cuts=solver.max_cuts,
+                                                  error_tolerance=solver.error_tolerance,
                                                   hit_times=() if settling else hit_times(case),
                                                   control=rec.control if state.t > t_start + t_eps else None,
                                                   on_step=rec, **newton)
@@ -176,6 +177,7 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
                                        "error": f"{type(exc).__name__}: {exc}"}
         wall = time.perf_counter() - rec.wall0      # a resumed run counts its earlier time too
         summary["wall_time_s"] = wall
+        summary["profile"] = rec.profile.summary(model, newton["linear_solver"], wall)
         summary["simulated_per_wall"] = float(rec.last.t) / wall if wall > 0 else None
         writer.write_summary(summary)
     log.info("%s: %s (%d steps, %.1f s wall)", status, reason, summary["steps"], wall)

@@ -346,6 +346,14 @@ class SolverSpec(_Section):
     """Newton iterations before the step is cut."""
     max_cuts: int = Field(6, ge=0)
     """Step halvings before the run stops with a convergence error."""
+    error_tolerance: float | None = Field(None, gt=0, lt=1)
+    """Step size from the local error estimate ``|β − 1/6| Δt² ‖a₁ − a₀‖`` (Zienkiewicz & Xie
+    1991), kept below this fraction of ``‖u‖``: the step grows where the motion is smooth and
+    shrinks where it changes fast; absent: the step is cut only when Newton fails and grows
+    back after 4 converged steps."""
+    linear_solver: Literal["auto", "pardiso", "superlu"] = "auto"
+    """Direct solver of Newton's systems: MKL PARDISO (``pypardiso``, x86-64), SciPy's SuperLU,
+    or ``auto`` (PARDISO where it loads)."""
     quasi_static: bool = False
     """Equilibrium path (no inertia, no damping): load steps of ``dt`` in pseudo-time up to t_end."""
     settling_dt: Q("s", gt=0) | None = None

@@ -446,6 +446,7 @@ class KirchhoffLoveShell:
         Kd, Cd, Md = np.zeros(nnz), np.zeros(nnz), np.zeros(nnz)
         Q = np.eye(self.w.shape[1]) if self.strain_projection is None else self.strain_projection
         order, start = self._colours
+        kernels.use_threads(len(ue))
         kernels.tangent(ue, ve, ae, self.dN, self.HN, self.w, np.ascontiguousarray(Q),
                         np.ascontiguousarray(self.C_m, dtype=float), np.ascontiguousarray(Nm),
                         np.ascontiguousarray(M), np.ascontiguousarray(D), visc, order, start,
@@ -455,6 +456,7 @@ class KirchhoffLoveShell:
     def _kinematics(self, ue):
         """Membrane strain and curvature (Voigt), (E, q, 3) each, of element coefficients."""
         eps, kappa = np.empty(self.w.shape + (3,)), np.empty(self.w.shape + (3,))
+        kernels.use_threads(len(ue))
         kernels.kinematics(ue, self.dN, self.HN, eps, kappa)
         return eps, kappa
 
@@ -683,6 +685,7 @@ class KirchhoffLoveShell:
         if not np.any(d):
             return np.zeros(self.w.shape + (2,))
         kdot = np.empty(self.w.shape + (3,))
+        kernels.use_threads(len(self.edofs))
         kernels.curvature_rate(self._element_values(u), self._element_values(v), self.dN, self.HN, kdot)
         return d * kdot[..., :2]
 

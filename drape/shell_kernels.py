@@ -26,7 +26,8 @@ from :func:`kinematics`'s strain and curvature.
 Numba caches the compiled kernels on disk (``__pycache__`` next to this file, else the
 user's cache directory, or ``NUMBA_CACHE_DIR`` when set), so a fresh install compiles them
 once; with no writable directory they are compiled once per process. The kernels run on
-``NUMBA_NUM_THREADS`` threads (default: every core); set it to 1 where each core
+``NUMBA_NUM_THREADS`` threads (default: every core) on meshes of at least
+:data:`PARALLEL_MIN_ELEMENTS` elements, on one below; set it to 1 where each core
 already runs its own process.
 """
 
@@ -34,10 +35,21 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+import numba
 from numba import njit as _numba_njit
 from numba import prange
 
 __all__ = ["element_colours", "kinematics", "curvature_rate", "internal_force", "tangent"]
+
+
+#: Below this many elements a kernel runs on one thread: waking the thread pool costs more than
+#: the work it would share, and on a busy machine a thread waiting for a core stalls the call.
+PARALLEL_MIN_ELEMENTS = 256
+
+
+def use_threads(n_elements: int) -> None:
+    """Let the next kernel calls of this thread use every numba thread, or one for a small mesh."""
+    numba.set_num_threads(numba.config.NUMBA_NUM_THREADS if n_elements >= PARALLEL_MIN_ELEMENTS else 1)
 
 
 def njit(*args, **options):

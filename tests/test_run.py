@@ -42,6 +42,7 @@ class VertexOscillators:
         eye = sp.identity(self.ndofs, format="csr")
         self.M, self.K, self.C = m * eye, k * eye, c * eye
         self.commits = 0
+        self.seconds = {"law": 0.0, "assembly": 0.0}
 
     symmetric_tangent = True
 
