@@ -111,8 +111,6 @@ class StepControl:
 
     dt: float                      # size of the next step, before landing on hit times
     successes: int = 0             # converged steps since the size last changed
-    predictors: tuple = ()         # predictor order: the first is tried first
-    iterations: dict = field(default_factory=dict)   # Newton iterations each predictor last took
 
 
 @dataclass
@@ -206,7 +204,8 @@ class _Constraints:
 def _combine(terms):
     """``Σ c_i A_i`` of CSR matrices; adds the data arrays when they share one pattern."""
     (c0, A0), rest = terms[0], [(c, A) for c, A in terms[1:] if c != 0.0 and A is not None]
-    if all(A.indices is A0.indices and A.indptr is A0.indptr for _, A in rest):
+    if all(A.nnz == A0.nnz and (A.indices is A0.indices or np.array_equal(A.indices, A0.indices))
+           and (A.indptr is A0.indptr or np.array_equal(A.indptr, A0.indptr)) for _, A in rest):
         data = c0 * A0.data
         for c, A in rest:
             data = data + c * A.data
@@ -356,8 +355,9 @@ def newmark_step(model, state: NewmarkState, dt: float, beta=None, gamma=None, a
     alpha_hht : float
         HHT-α parameter in [−⅓, 0]; 0 gives plain Newmark.
     predictor : {"auto", "acceleration", "displacement"}
-        Start of Newton: constant-acceleration extrapolation, or ``u₁ = u₀``; "auto"
-        tries them in this order.
+        Start of Newton: constant-acceleration extrapolation, or ``u₁ = u₀`` (every
+        friction point starts on its stick branch); "auto" starts from the one with the
+        smaller residual and tries the other if Newton fails.
     policy : drape.newton.NewtonPolicy, optional
         Damping and the material tangents to try (default: consistent).
     linear_solver : drape.linsolve.DirectSolver, optional
@@ -379,47 +379,32 @@ def newmark_step(model, state: NewmarkState, dt: float, beta=None, gamma=None, a
     tol = _tolerances(tolerances)
     solver = default_solver(model) if linear_solver is None else linear_solver
     problem = _StepProblem(model, state, dt, coefficients, _Restrictions(solver))
-    order = ("acceleration", "displacement") if predictor == "auto" else (predictor,)
-    return _solve_step(problem, order, tol, policy, solver)
+    return _solve_step(problem, predictor, tol, policy, solver)
 
 
-def _solve_step(problem: _StepProblem, order, tol, policy, solver):
+def _solve_step(problem: _StepProblem, predictor, tol, policy, solver):
     info = StepInfo(t=problem.t1, dt=problem.dt)
+    if predictor == "auto":
+        # start where the residual is smaller: the constant-acceleration extrapolation while the
+        # motion is smooth, u₁ = u₀ where it is not (a fold forming, a friction reversal)
+        size = {}
+        for name in ("acceleration", "displacement"):
+            size[name] = float(np.linalg.norm(problem.residual(problem.start(name))[0]))
+            info.evaluations += 1
+        order = sorted(size, key=lambda name: (not np.isfinite(size[name]), size[name]))
+    else:
+        order = [predictor]
     reasons = []
-    for predictor in order:
-        result = newton(problem, problem.start(predictor), tol, policy, solver)
+    for name in order:
+        result = newton(problem, problem.start(name), tol, policy, solver)
         info.absorb(result)
         if result.converged:
-            info.predictor = predictor
+            info.predictor = name
             return problem.state(result.x), info
-        reasons.append(f"{predictor} predictor: {result.reason}")
+        reasons.append(f"{name} predictor: {result.reason}")
     where = f"at t = {problem.t1:.6g} s (dt = {problem.dt:.3g} s)"
     result.reason = "; ".join(reasons)
     raise ConvergenceError(_describe(where, tol, result), info)
-
-
-class _Predictors:
-    """Predictor order that follows success: the one that converged stays in front.
-
-    The other is tried first next step when the front one needed more than
-    ``slow`` iterations and more than the other did when last used.
-    """
-
-    slow = 6
-
-    def __init__(self, predictor: str, control: StepControl | None):
-        self.order = ["acceleration", "displacement"] if predictor == "auto" else [predictor]
-        self.counts = {}
-        if predictor == "auto" and control is not None and control.predictors:
-            self.order, self.counts = list(control.predictors), dict(control.iterations)
-
-    def update(self, info: StepInfo):
-        used = info.predictor
-        if used != self.order[0]:
-            self.order.reverse()
-        n = self.counts[used] = info.iterations
-        if len(self.order) > 1 and n > self.slow and self.counts.get(self.order[1], 0) < n:
-            self.order.reverse()
 
 
 class _StepSize:
@@ -485,8 +470,7 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
     equilibrium under constant loads needs ever fewer, longer steps), or, with
     ``error_tolerance``, set from the local error estimate (a step whose estimate
     exceeds it is redone shorter). Steps are shortened to land exactly on
-    ``hit_times``. Predictors follow success (:class:`_Predictors`); one
-    :class:`drape.linsolve.DirectSolver` serves every step. Each step's
+    ``hit_times``. One :class:`drape.linsolve.DirectSolver` serves every step. Each step's
     ``info.control`` is where the step control stands after it; ``control``
     starts from there instead of from ``dt``.
 
@@ -512,7 +496,6 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
     solver = default_solver(model) if linear_solver is None else linear_solver
     restrict = _Restrictions(solver)
     size = _StepSize(dt, dt_max, max_cuts, grow_after, error_tolerance, control)
-    predictors = _Predictors(predictor, control)
     eps = 1e-12 * max(abs(t_end), dt)
     hits = sorted(float(t) for t in hit_times if state.t + eps < t <= t_end - eps)
     step, cuts, rejected = 0, 0, 0
@@ -532,7 +515,7 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
                 h = limit - state.t
             problem = _StepProblem(model, state, h, coefficients, restrict)
             try:
-                new, info = _solve_step(problem, predictors.order, tol, policy, solver)
+                new, info = _solve_step(problem, predictor, tol, policy, solver)
             except ConvergenceError as err:
                 cuts += 1
                 if not size.failed():
@@ -540,7 +523,6 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
                         f"integration stopped at t = {state.t:.6g} s: the step failed at the smallest allowed "
                         f"size dt/2^{max_cuts} = {size.h_min:.3g} s. Last failure: {err}", err.info) from None
                 continue
-            predictors.update(info)
             info.error = size.error(state, new, coefficients[0])
             if not size.accept(info.error, h, landed and h < size.h):
                 rejected += 1
@@ -552,7 +534,7 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
             if bar is not None:
                 bar.update(new.t - state.t)
             state = new
-            info.control = StepControl(size.h, size.successes, tuple(predictors.order), dict(predictors.counts))
+            info.control = StepControl(size.h, size.successes)
             if on_step is not None and on_step(state, info) is True:
                 break
     finally:

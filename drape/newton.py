@@ -50,7 +50,7 @@ Examples
 ...     def norm_reference(self, x): return float(np.linalg.norm(x))
 >>> result = newton(Cube(), np.array([1.0]), NewtonTolerances(rtol=1e-12, du_rtol=1e-12))
 >>> result.converged, result.x.round(12), result.iterations
-(True, array([2.]), 6)
+(True, array([2.]), 7)
 """
 from __future__ import annotations
 

@@ -107,8 +107,7 @@ class Recorder:
         self.schedule.load_state_dict(run["schedule"])
         self.settled.count = run["settling_count"]
         control = run["step_control"]
-        self.control = None if control is None else StepControl(
-            **{**control, "predictors": tuple(control["predictors"])})
+        self.control = None if control is None else StepControl(**control)
         self.wall0 -= run["wall_time_s"]
         self.last = checkpoint.state
         self.bar.update(max(0.0, min(float(self.last.t), self.bar.total) - self.bar.n))
