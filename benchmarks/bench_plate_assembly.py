@@ -56,22 +56,29 @@ def time_solve(plate: KirchhoffPlate) -> float:
 
 
 def time_newmark(n: int, element: str, steps: int = 20, dt: float = 2e-3) -> None:
-    """Wall time per Newmark step (fabric1, gravity) with the default LaggedLU and a direct solve each time."""
+    """Wall time per Newmark step (fabric1, gravity) with each direct solver back end,
+    symmetric (upper triangle) and general."""
     from constitutive.material import load_material
-    from drape.newmark import LaggedLU, _solve, integrate
+    from drape.linsolve import DirectSolver, pardiso_available
+    from drape.newmark import integrate
 
     mat = load_material("fabric1")
     mesh = skfem.MeshTri.init_tensor(np.linspace(0, 0.1, n + 1), np.linspace(0, 0.1, n + 1))
     mesh = mesh.with_boundaries({"left": lambda x: np.isclose(x[0], 0.0)})
-    for label, solver in (("LaggedLU", LaggedLU()), ("direct", lambda A, b: _solve(A, b))):
-        plate = KirchhoffPlate(mesh, mat, element=element, supports={"left": "clamped"}, rayleigh=(5.0, 0.0))
-        its = []
-        t0 = time.perf_counter()
-        integrate(plate, steps * dt, dt, linear_solver=solver, on_step=lambda s, i: its.append(i.iterations))
-        wall = (time.perf_counter() - t0) / steps
-        print(f"newmark {element:8s} {mesh.t.shape[1]:6d} elem {plate.ndofs:6d} dofs {label:9s}: "
-              f"{wall:7.3f} s/step, {np.mean(its):.1f} Newton it/step, "
-              f"{dt / wall:6.3f}x real time at dt = {dt:g} s", flush=True)
+    backends = ["superlu"] + (["pardiso"] if pardiso_available() else [])
+    for backend in backends:
+        for symmetric in (True, False):
+            solver = DirectSolver(symmetric=symmetric, backend=backend)
+            plate = KirchhoffPlate(mesh, mat, element=element, supports={"left": "clamped"}, rayleigh=(5.0, 0.0))
+            its = []
+            t0 = time.perf_counter()
+            integrate(plate, steps * dt, dt, linear_solver=solver, on_step=lambda s, i: its.append(i.iterations))
+            wall = (time.perf_counter() - t0) / steps
+            label = f"{backend}{' sym' if symmetric else ''}"
+            print(f"newmark {element:8s} {mesh.t.shape[1]:6d} elem {plate.ndofs:6d} dofs {label:12s}: "
+                  f"{wall:7.3f} s/step, {np.mean(its):.1f} Newton it/step, "
+                  f"{solver.factorizations} factorizations, {dt / wall:6.3f}x real time at dt = {dt:g} s",
+                  flush=True)
 
 
 def main(argv=None) -> None:
@@ -82,7 +89,7 @@ def main(argv=None) -> None:
     parser.add_argument("--repeat", type=int, default=5, help="timed repetitions (best is reported)")
     parser.add_argument("--elements", nargs="+", default=["morley", "argyris"], choices=["morley", "argyris"])
     parser.add_argument("--newmark", type=int, metavar="N", default=0,
-                        help="also time Newmark steps on an N×N mesh with LaggedLU vs direct solves")
+                        help="also time Newmark steps on an N×N mesh with each direct solver")
     parser.add_argument("--solve", action="store_true",
                         help="also time one direct (SuperLU) solve of the Newmark tangent, for comparison")
     args = parser.parse_args(argv)
