@@ -10,6 +10,15 @@ Studies (each a set of runs of cases/cusick_*.toml with dotted overrides):
                    c = (k1/(rho_A g))^(1/3) = 3.3 ... 0.72 cm, plus s = 1000 (c = 7.2 cm, more
                    than the 6 cm overhang): DC must fall monotonically as s falls, and the stiff
                    one must stay near 100 %.
+* ``speed``        the solver's figures, each run alone: Fabric 1 as it is, four fabrics from
+                   their KES sheets (cotton, wool, polyester, limp polyester; B and 2HB both
+                   directions, W), the wool without friction, Fabric 1 on one uniform
+                   refinement, and the cantilever: wall time, steps, Newton iterations, force
+                   evaluations, factorisations and the split between assembly, law, linear
+                   solve and output (``summary.json`` ``profile``). ``--code DIR`` runs the
+                   same cases with another checkout (e.g. an older commit) for a side-by-side.
+* ``robustness``   KES fabrics B = 0.01, 0.03, 0.1, 0.3 gf·cm²/cm, W = 8, 25 mg/cm², 2HB = 0.4 B
+                   and 1.2 B (per cm), with friction, and each (B, W) without: every run must settle.
 * ``convergence``  Fabric 1 on the default mesh (6 x 72, radial_grading 4), on 8 x 96 (x4/3) and
                    on one uniform refinement (mesh.refine = 1, 12 x 144; about 35 minutes): DC change
                    (points) and node counts. Add e.g. ``--set material.bending_scale=10`` for a
@@ -19,6 +28,7 @@ Usage::
 
     python benchmarks/bench_cusick.py --study fabrics --out out/bench_cusick
     python benchmarks/bench_cusick.py --study all --jobs 2        (long: several runs of minutes)
+    python benchmarks/bench_cusick.py --study speed --only fabric1 --set solver.t_end=0.3 --code ../old
 
 Every run writes its own directory (VTU series, summary.json, top-view PNG); the script prints a
 table and writes ``results.json`` and, for the sweep, ``dc_vs_bending_length.png``.
@@ -31,7 +41,8 @@ import math
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
+import subprocess
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -46,26 +57,44 @@ CONVERGENCE_MESHES = {"fabric1_8x96": ["mesh.n_radial=8", "mesh.n_circumferentia
                       "fabric1_refine1": ["mesh.refine=1"]}
 
 
-def _run(args):
-    """Run one case with overrides in a fresh process; return a compact record."""
-    label, case_file, overrides, out = args
-    sys.path.insert(0, str(ROOT))
-    from drape.case import load_case
-    from drape.run import run_case
+#: KES sheets (B gf·cm²/cm, 2HB gf·cm/cm, W mg/cm²) of the speed study, both directions alike.
+KES_FABRICS = {"cotton": (0.118, 0.124, 12.38), "wool": (0.067, 0.033, 16.29),
+               "polyester": (0.077, 0.029, 11.65), "limp_polyester": (0.019, 0.007, 10.43)}
+#: The robustness grid.
+ROBUST_B, ROBUST_W, ROBUST_HB = (0.01, 0.03, 0.1, 0.3), (8.0, 25.0), (0.4, 1.2)
 
-    case = load_case(ROOT / case_file, overrides)
+
+def kes_overrides(B, HB2, W, friction=True):
+    keys = [f"material.kes.B_warp={B!r}", f"material.kes.B_weft={B!r}", f"material.kes.HB2_warp={HB2!r}",
+            f"material.kes.HB2_weft={HB2!r}", f"material.kes.weight={W!r}"]
+    return keys + ([] if friction else ["material.friction=false"])
+
+
+def _run(args):
+    """Run one case with overrides in a fresh ``python -m drape.run`` of checkout ``code``;
+    return a compact record from its summary.json."""
+    label, case_file, overrides, out, code = args
+    code = Path(code or ROOT)
+    cmd = [sys.executable, "-m", "drape.run", str(ROOT / case_file), "--out", str(out), "--quiet"]
+    for o in overrides:
+        cmd += ["--set", o]
+    env = {**os.environ, "PYTHONPATH": str(code)}
     t0 = time.perf_counter()
+    proc = subprocess.run(cmd, cwd=code, env=env, capture_output=True, text=True)
+    wall = time.perf_counter() - t0
     try:
-        s = run_case(case, out, quiet=True)
-    except Exception as err:  # noqa: BLE001 - report and go on with the other runs
-        return dict(label=label, error=f"{type(err).__name__}: {err}", wall_s=time.perf_counter() - t0)
+        s = json.loads((Path(out) / "summary.json").read_text())
+    except (OSError, ValueError):
+        return dict(label=label, error=(proc.stderr.strip().splitlines() or ["no summary"])[-1], wall_s=wall)
     a = s.get("analysis", {})
     return dict(label=label, case=case_file, overrides=overrides, status=s.get("status"),
                 reason=s.get("reason"), dc_percent=a.get("drape_coefficient_percent"),
                 dc_vertices_percent=a.get("drape_coefficient_vertices_percent"),
                 n_nodes=a.get("n_nodes"), node_depths_mm=[1e3 * d for d in a.get("node_depths_m", [])],
                 settling_time_s=s.get("settling_time"), t_final_s=s.get("t_final"),
-                steps=s.get("steps"), wall_s=time.perf_counter() - t0, out=str(out))
+                steps=s.get("steps"), wall_s=wall, run_wall_s=s.get("wall_time_s"),
+                simulated_per_wall=s.get("simulated_per_wall"), profile=s.get("profile"),
+                tip_drop_m=a.get("tip_drop_m"), out=str(out))
 
 
 def bending_length(scale: float, direction: str = "warp") -> float:
@@ -97,11 +126,41 @@ def studies(which: list[str], extra: list[str]):
                 add("cusick_fabric1", "cases/cusick_fabric1.toml")
             else:
                 add(f"sweep_s{scale:g}", "cases/cusick_fabric1.toml", [f"material.bending_scale={scale!r}"])
+    if "speed" in which:
+        add("cusick_fabric1", "cases/cusick_fabric1.toml")
+        for name, (B, HB2, W) in KES_FABRICS.items():
+            add(name, "cases/cusick_kes.toml", kes_overrides(B, HB2, W))
+        add("wool_no_friction", "cases/cusick_kes.toml", kes_overrides(*KES_FABRICS["wool"], friction=False))
+        add("fabric1_refine1", "cases/cusick_fabric1.toml", ["mesh.refine=1"])
+        add("cantilever", "cases/cantilever.toml")
+    if "robustness" in which:
+        for B in ROBUST_B:
+            for W in ROBUST_W:
+                for f in ROBUST_HB:
+                    add(f"B{B:g}_W{W:g}_2HB{f:g}B", "cases/cusick_kes.toml", kes_overrides(B, f * B, W))
+                add(f"B{B:g}_W{W:g}_no_friction", "cases/cusick_kes.toml",
+                    kes_overrides(B, 0.4 * B, W, friction=False))
     if "convergence" in which:
         add("cusick_fabric1", "cases/cusick_fabric1.toml")
         for label, overrides in CONVERGENCE_MESHES.items():
             add(label, "cases/cusick_fabric1.toml", overrides)
     return list(runs.values())
+
+
+def _speed_table(records):
+    """Solver figures per run: steps, iterations, evaluations, factorisations and the time split."""
+    head = (f"{'run':18s} {'status':9s} {'wall s':>7s} {'sim/wall':>8s} {'steps':>5s} {'iter':>5s} {'evals':>5s} "
+            f"{'facts':>5s} {'assembly':>8s} {'law':>6s} {'linear':>7s} {'output':>7s} {'other':>6s}")
+    lines = [head, "-" * len(head)]
+    for r in records:
+        p = r.get("profile") or {}
+        sec = p.get("seconds", {})
+        cells = [f"{sec.get(k, float('nan')):8.1f}" for k in ("assembly", "law", "linear_solve", "output", "other")]
+        lines.append(f"{r['label']:18s} {str(r.get('status')):9s} {r.get('run_wall_s') or r['wall_s']:7.1f} "
+                     f"{r.get('simulated_per_wall') or float('nan'):8.3f} {r.get('steps') or 0:5d} "
+                     f"{p.get('newton_iterations', 0):5d} {p.get('evaluations', 0):5d} "
+                     f"{p.get('factorizations', 0):5d} " + " ".join(cells))
+    return "\n".join(lines)
 
 
 def _table(records):
@@ -115,9 +174,11 @@ def _table(records):
         d = r["node_depths_mm"]
         depth = f"{sum(d) / len(d):.1f}" if d else "-"
         st = r["settling_time_s"]
-        lines.append(f"{r['label']:22s} {str(r['status']):9s} {r['dc_percent']:6.1f} {r['n_nodes']:5d} "
+        dc = "-" if r["dc_percent"] is None else f"{r['dc_percent']:.1f}"
+        nodes = "-" if r["n_nodes"] is None else str(r["n_nodes"])
+        lines.append(f"{r['label']:22s} {str(r['status']):9s} {dc:>6s} {nodes:>5s} "
                      f"{depth:>15s} {('%.2f' % st) if st is not None else '-':>8s} "
-                     f"{r['steps']:5d} {r['wall_s']:7.0f}")
+                     f"{r['steps'] or 0:5d} {r['wall_s']:7.0f}")
     return "\n".join(lines)
 
 
@@ -184,13 +245,15 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--study", nargs="+", default=["fabrics"],
-                    choices=["fabrics", "friction", "sweep", "convergence", "all"],
+                    choices=["fabrics", "friction", "sweep", "convergence", "speed", "robustness", "all"],
                     help="which studies to run (default: fabrics)")
     ap.add_argument("--out", default="out/bench_cusick", help="output directory")
     ap.add_argument("--jobs", type=int, default=1, help="runs in parallel (processes)")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="extra override for every run, e.g. --set solver.t_end=1.0")
     ap.add_argument("--only", nargs="*", default=None, help="run only these labels")
+    ap.add_argument("--code", default=None, metavar="DIR",
+                    help="run the cases with the checkout in DIR (default: this one)")
     args = ap.parse_args(argv)
     which = ["fabrics", "friction", "sweep", "convergence"] if "all" in args.study else args.study
     out = Path(args.out)
@@ -198,15 +261,17 @@ def main(argv=None):
     runs = studies(which, args.set)
     if args.only:
         runs = [r for r in runs if r[0] in args.only]
-    todo = [(label, case, over, out / label) for label, case, over in runs]
+    todo = [(label, case, over, out / label, args.code) for label, case, over in runs]
     print(f"{len(todo)} runs, {args.jobs} at a time, {os.cpu_count()} cpus", flush=True)
     t0 = time.perf_counter()
     if args.jobs > 1:
-        with ProcessPoolExecutor(args.jobs) as pool:
+        with ThreadPoolExecutor(args.jobs) as pool:
             records = list(pool.map(_run, todo))
     else:
         records = [_run(t) for t in todo]
     print(_table(records))
+    if "speed" in which or args.code:
+        print(_speed_table(records))
     for line in _checks(records):
         print(line)
     fig = _plot_sweep(records, out)
