@@ -75,7 +75,13 @@ __all__ = [
     "quasi_static",
 ]
 
-PREDICTORS = ("auto", "acceleration", "displacement")
+PREDICTORS = ("auto", "acceleration", "velocity", "displacement")
+#: "auto" starts from whichever of these has the smaller residual and falls back to the other.
+#: Constant acceleration is best while the motion is smooth; as a fold forms it extrapolates
+#: the high-frequency (membrane) content of ``a`` that HHT-α damps only slowly, and there
+#: ``u₁ = u₀`` starts far closer (residual 200-fold smaller in the Cusick drape; constant
+#: velocity, in between, failed more often than either: BENCHMARKS.md).
+AUTO_ORDER = ("acceleration", "displacement")
 
 
 class ConvergenceError(RuntimeError):
@@ -235,11 +241,14 @@ class _StepProblem:
         self._last = None
 
     def start(self, predictor: str):
-        """Free part of the predictor: constant acceleration, or ``u₁ = u₀`` (every friction point
-        starts on its stick branch and approaches the saturating one from below)."""
+        """Free part of the predictor: constant acceleration, constant velocity, or ``u₁ = u₀``
+        (every friction point starts on its stick branch and approaches the saturating one
+        from below)."""
         uh = self.uh0.copy()
         if predictor == "acceleration":
             uh += self.dt * self.vh0 + 0.5 * self.dt ** 2 * self.ah0
+        elif predictor == "velocity":
+            uh += self.dt * self.vh0
         self.base = self.c1.impose(uh)
         return self.base[self.free]
 
@@ -354,10 +363,10 @@ def newmark_step(model, state: NewmarkState, dt: float, beta=None, gamma=None, a
         Newmark parameters; default ``β = (1−α)²/4``, ``γ = ½ − α`` (¼, ½ for α = 0).
     alpha_hht : float
         HHT-α parameter in [−⅓, 0]; 0 gives plain Newmark.
-    predictor : {"auto", "acceleration", "displacement"}
-        Start of Newton: constant-acceleration extrapolation, or ``u₁ = u₀`` (every
-        friction point starts on its stick branch); "auto" starts from the one with the
-        smaller residual and tries the other if Newton fails.
+    predictor : {"auto", "acceleration", "velocity", "displacement"}
+        Start of Newton: ``u₀ + Δt v₀ + Δt²/2 a₀``, ``u₀ + Δt v₀`` or ``u₀`` (every
+        friction point then starts on its stick branch); "auto" tries :data:`AUTO_ORDER`
+        in turn, the one with the smaller residual first.
     policy : drape.newton.NewtonPolicy, optional
         Damping and the material tangents to try (default: consistent).
     linear_solver : drape.linsolve.DirectSolver, optional
@@ -388,7 +397,7 @@ def _solve_step(problem: _StepProblem, predictor, tol, policy, solver):
         # start where the residual is smaller: the constant-acceleration extrapolation while the
         # motion is smooth, u₁ = u₀ where it is not (a fold forming, a friction reversal)
         size = {}
-        for name in ("acceleration", "displacement"):
+        for name in AUTO_ORDER:
             size[name] = float(np.linalg.norm(problem.residual(problem.start(name))[0]))
             info.evaluations += 1
         order = sorted(size, key=lambda name: (not np.isfinite(size[name]), size[name]))
@@ -581,7 +590,7 @@ def quasi_static(model, load_factors, times=None, state: NewmarkState | None = N
     Parameters
     ----------
     model : drape.model.StructuralModel
-        ``model.load_scale`` is set to each λ in turn.
+        ``model.load_scale`` is set to each λ in turn, the one with the smaller residual first.
     load_factors : sequence of float
         Load factors λ_i of the requested equilibrium states, in order.
     times : sequence of float, optional

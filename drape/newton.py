@@ -121,7 +121,8 @@ class NewtonPolicy:
         problem's size: simplified Newton steps ``Δx = −J_old⁻¹ R(x)`` cost a force
         evaluation and a back-substitution instead of a tangent and a factorisation.
         They continue while each correction is at most ``contraction`` × the last one;
-        then Newton takes a fresh tangent where it stands.
+        then Newton takes a fresh tangent where it stands. Off by default: on the Cusick
+        drape and the cantilever it saved no factorisations (BENCHMARKS.md).
     contraction : float
         Largest contraction ratio accepted from a reused factorisation, in (0, 1).
     simplified_steps : int
@@ -134,7 +135,7 @@ class NewtonPolicy:
     jump_ratio: float = 100.0
     kink_steps: int = 3
     kink_growth: float = 10.0
-    reuse_factorization: bool = True
+    reuse_factorization: bool = False
     contraction: float = 0.25
     simplified_steps: int = 4
 
