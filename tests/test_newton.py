@@ -1,0 +1,119 @@
+"""drape.newton: convergence rate, damping, tangent fallback, failure reports, bad input.
+
+References: the exact roots of small algebraic systems; Newton's quadratic convergence
+(e_{k+1} ≤ C e_k²) near a simple root; the classical divergence of undamped Newton on arctan
+from |x0| > 1.39.
+"""
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from constitutive.friction import FrictionParams
+from constitutive.law import BendingLaw
+from drape.linsolve import DirectSolver
+from drape.newton import NewtonPolicy, NewtonTolerances, newton
+
+
+class Problem:
+    """``R(x) = f(x) − b`` with a Jacobian per tangent name (and a count of the tangents used)."""
+
+    def __init__(self, f, jac, b=0.0, jacobians=None):
+        self.f, self.jac, self.b = f, jac, b
+        self.jacobians = jacobians or {}
+        self.used = []
+
+    def residual(self, x):
+        return self.f(x) - self.b, 1.0
+
+    def linearize(self, x, tangent):
+        self.used.append(tangent)
+        J = self.jacobians.get(tangent, self.jac)(x)
+        return self.f(x) - self.b, sp.csr_matrix(np.atleast_2d(J)), 1.0
+
+    def norm_reference(self, x):
+        return float(np.linalg.norm(x))
+
+
+def test_quadratic_convergence_on_a_smooth_system():
+    """x² + y² = 4, x y = 1: the errors of successive iterates square (ratio e_{k+1}/e_k² bounded)."""
+    f = lambda x: np.array([x[0] ** 2 + x[1] ** 2 - 4.0, x[0] * x[1] - 1.0])  # noqa: E731
+    jac = lambda x: np.array([[2 * x[0], 2 * x[1]], [x[1], x[0]]])  # noqa: E731
+    exact = np.array([np.sqrt(2 + np.sqrt(3)), np.sqrt(2 - np.sqrt(3))])
+    res = newton(Problem(f, jac), np.array([2.0, 0.3]), NewtonTolerances(rtol=1e-14, du_rtol=1e-14))
+    # the root is confirmed by the simplified correction: no tangent is assembled there
+    assert res.converged and res.factorizations == res.iterations
+    np.testing.assert_allclose(res.x, exact, rtol=1e-13)
+    errs = np.array(res.increment_norms)  # ≈ the error of the iterate before each step
+    ratios = errs[1:] / errs[:-1] ** 2
+    assert np.all(ratios[-3:] < 2.0)   # quadratic: bounded ratio of e_{k+1} to e_k²
+
+
+def test_damping_brings_arctan_home_where_plain_newton_diverges():
+    """Undamped Newton on arctan(x) = 0 diverges from |x0| > 1.3917; the damped one converges."""
+    f = lambda x: np.arctan(x)  # noqa: E731
+    jac = lambda x: np.diag(1.0 / (1.0 + x ** 2))  # noqa: E731
+    x = np.array([3.0])
+    for _ in range(3):  # plain Newton: |x| grows
+        x = x - f(x) / jac(x).diagonal()
+    assert abs(x[0]) > 1e3
+    res = newton(Problem(f, jac), np.array([3.0]), NewtonTolerances(rtol=1e-12, atol=1e-14, du_rtol=1e-12))
+    assert res.converged and abs(res.x[0]) < 1e-10
+
+
+def test_stick_tangent_fallback_and_the_reason_of_each_failure():
+    """A tangent that points the wrong way fails; the policy's next tangent converges from x0."""
+    f = lambda x: x ** 3 + x  # noqa: E731
+    good = lambda x: np.diag(3 * x ** 2 + 1)  # noqa: E731
+    wrong = lambda x: -np.diag(3 * x ** 2 + 1)  # noqa: E731
+    prob = Problem(f, good, b=2.0, jacobians={"consistent": wrong, "stick": good})
+    res = newton(prob, np.array([0.5]), NewtonTolerances(rtol=1e-12, du_rtol=1e-12),
+                 NewtonPolicy(tangents=("consistent", "stick")))
+    assert res.converged and res.tangent == "stick" and res.x[0] == pytest.approx(1.0, rel=1e-12)
+    assert prob.used[0] == "consistent" and "stick" in prob.used
+    alone = newton(Problem(f, good, b=2.0, jacobians={"consistent": wrong}), np.array([0.5]),
+                   NewtonTolerances(rtol=1e-12, du_rtol=1e-12))
+    assert not alone.converged and "consistent tangent" in alone.reason and "residual norms" in alone.reason
+
+
+def test_newton_passes_the_stick_slip_kink_of_the_friction_law():
+    """A friction point loaded from rest past its stick range: M(κ) = M_target is solved to
+    round-off with the consistent tangent (kink at the committed curvature)."""
+    law = BendingLaw(k1=1e-6, friction=FrictionParams(2e-6, 1e-6, 50.0, 0.5))
+    state = law.new_state((1,))
+    target = state.trial(np.array([0.08]))[0]
+
+    f = lambda x: state.trial(x)[0]  # noqa: E731
+    jac = lambda x: np.diag(state.trial(x)[1])  # noqa: E731
+    res = newton(Problem(f, jac, b=target), np.zeros(1), NewtonTolerances(rtol=1e-12, atol=1e-20, du_rtol=1e-10))
+    assert res.converged and res.x[0] == pytest.approx(0.08, rel=1e-8)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(rtol=-1.0), "rtol"), (dict(rtol=0.0, atol=0.0), "both be 0"), (dict(max_iter=0), "max_iter"),
+])
+def test_bad_tolerances_name_themselves(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        NewtonTolerances(**kwargs)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(tangents=()), "tangents"), (dict(lambda_min=0.0), "lambda_min"), (dict(contraction=1.0), "contraction"),
+])
+def test_bad_policy_names_itself(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        NewtonPolicy(**kwargs)
+
+
+def test_simplified_newton_on_a_standing_factorisation_saves_factorisations():
+    """With reuse_factorization a second, nearby solve starts on the first one's factorisation:
+    fewer factorisations, the same root."""
+    f = lambda x: x ** 3 + 10 * x  # noqa: E731
+    jac = lambda x: np.diag(3 * x ** 2 + 10)  # noqa: E731
+    tol = NewtonTolerances(rtol=1e-12, du_rtol=1e-12)
+    solver = DirectSolver(backend="superlu")
+    newton(Problem(f, jac, b=11.0), np.array([0.9]), tol, solver=solver)
+    before = solver.factorizations
+    res = newton(Problem(f, jac, b=11.2), np.array([1.0]), tol, NewtonPolicy(reuse_factorization=True), solver)
+    fresh = newton(Problem(f, jac, b=11.2), np.array([1.0]), tol, NewtonPolicy(), DirectSolver(backend="superlu"))
+    assert res.converged and res.x[0] == pytest.approx(fresh.x[0], rel=1e-12)
+    assert solver.factorizations - before < fresh.factorizations
