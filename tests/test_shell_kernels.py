@@ -247,3 +247,22 @@ def test_large_deflection_does_not_move_with_a_finer_rule():
     w6, w8 = tip(6), tip(8)
     assert 0.1 < w6 < 0.4                       # PL³/3B = 0.33 linear: a large deflection
     assert abs(w6 - w8) <= 1e-4 * abs(w8)
+
+
+def test_force_only_evaluation_equals_the_tangent_pass(viscous_shell):
+    """evaluate(..., tangent=None) gives the same inertia and force as the tangent pass
+    (law viscosity d κ̇ and curvature inertia m κ̈ included, Rayleigh damping on), to 1e-12."""
+    shell = viscous_shell
+    shell.rayleigh = (3.0, 1e-3)
+    u, rng = _large_rotation_state(shell, seed=2)
+    v, a = rng.standard_normal(shell.ndofs), rng.standard_normal(shell.ndofs)
+    try:
+        fast = shell.evaluate(u, v, a, 0.3)
+        full = shell.evaluate(u, v, a, 0.3, "consistent")
+    finally:
+        shell.rayleigh = (0.0, 0.0)
+    assert fast.K is None and full.K is not None
+    for name in ("inertia", "force"):
+        x, y = getattr(fast, name), getattr(full, name)
+        assert np.linalg.norm(x - y) <= 1e-12 * np.linalg.norm(y), name
+    assert not shell.symmetric_tangent          # viscous terms make K unsymmetric
