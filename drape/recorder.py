@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 import logging
-import math
 import sys
 import time
 
@@ -19,7 +18,7 @@ from drape.newmark import StepControl
 from drape.output import OutputSchedule, OutputWriter, flat_fields
 from drape.probes import DisplacementProbe
 from drape.profile import RunProfile
-from drape.settling import Settling, settling_threshold
+from drape.settling import Settling
 
 __all__ = ["Recorder", "progress_bar"]
 
@@ -35,7 +34,7 @@ class Recorder:
     def __init__(self, case, ctx: RunContext, writer: OutputWriter, bar, wall0: float):
         self.case, self.ctx, self.writer, self.bar = case, ctx, writer, bar
         self.schedule = OutputSchedule(case.output.every, case.output.every_dt)
-        self.settled = Settling(case, settling_threshold(case, ctx.mesh, ctx.material))
+        self.settled = Settling(case)
         self.analysis = ANALYSES[case.case.analysis]
         self.probe = DisplacementProbe(case, ctx.mesh)
         self.wall0 = wall0
@@ -59,6 +58,7 @@ class Recorder:
             self.profile.add(info)
         fields = flat_fields(model.fields(state.u, state.v, state.a), self.ctx.mesh)
         energies = {k: float(v) for k, v in model.energies(state.u, state.v, t=state.t).items()}
+        settled = self.settled(model, state.u, state.t)
         row = {"step": self.step, "t": float(state.t),
                "dt": float(getattr(info, "dt", 0.0)),
                "iterations": int(getattr(info, "iterations", 0)),
@@ -66,6 +66,8 @@ class Recorder:
                "factorizations": int(getattr(info, "factorizations", 0)),
                "cuts": int(getattr(info, "cuts", 0))}
         row.update(energies)
+        if self.settled.active:   # blank until the loads stop changing
+            row["out_of_balance"] = self.settled.ratio
         row.update(self.probe(fields["displacement"]))
         if self.analysis.probe is not None:
             row.update(self.analysis.probe(self.ctx, fields))
@@ -78,14 +80,11 @@ class Recorder:
             self.last_written = self.step
         self.last = state
         self.step += 1
-        settled = self.settled(state.t, energies.get("kinetic", math.inf))
         self.control = getattr(info, "control", None)
         self.checkpoint()
         self.bar.update(max(0.0, min(float(state.t), self.bar.total) - self.bar.n))
         if settled:
-            self.stop_reason = (
-                f"kinetic energy {energies['kinetic']:.3e} J below "
-                f"{self.settled.threshold:.3e} J for {self.settled.needed} steps at t = {state.t:g} s")
+            self.stop_reason = self.settled.reason(state.t)
             return True
         return False
 

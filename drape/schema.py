@@ -12,6 +12,7 @@ from typing import Annotated, Literal, Union
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator, model_validator
 
 from constitutive.material import KesFabricSpec
+from drape.settling import DEFAULT_OUT_OF_BALANCE
 
 # --------------------------------------------------------------------------- quantities
 def _ureg():
@@ -418,19 +419,28 @@ class MeasuredSpec(_Section):
 
 # --------------------------------------------------------------------------- [stop]
 class StopSpec(_Section):
-    """[stop]: end the run early once the fabric has settled."""
+    """[stop]: end a dynamic run early once the fabric has settled (:mod:`drape.settling`)."""
 
-    kinetic_energy: Q("J", gt=0) | None = None
-    """Settled when the kinetic energy falls below this value [J]."""
-    kinetic_fraction: float | None = Field(None, gt=0, lt=1)
-    """Settled when the kinetic energy falls below this fraction of E_ref = ρ_A g A L: the
-    energy the free fabric (area A) would release falling its span L (strip/rectangle length,
-    Cusick overhang). 1e-6 means a mean speed of about sqrt(2e-6 g L) (~1 mm/s for L = 6 cm)."""
+    out_of_balance: float = Field(DEFAULT_OUT_OF_BALANCE, ge=0, lt=1)
+    """Settled when the static out-of-balance force (internal + friction − external, without
+    inertia and viscous terms; norm over the free dofs) falls below this fraction of the weight
+    (norm of the self-weight force vector). 0: never stop early, run to t_end."""
     after: Q("s", ge=0) | None = None
     """Check only after this time [s]; default: when the loads stop changing."""
     steps: int = Field(5, ge=1)
     """Consecutive converged steps that must satisfy the rule."""
 
+    @model_validator(mode="before")
+    @classmethod
+    def _kinetic_rule_removed(cls, data):
+        for key in ("kinetic_energy", "kinetic_fraction"):
+            if isinstance(data, dict) and key in data:
+                raise ValueError(
+                    f"@.{key} is no longer read: a run settles when the static out-of-balance "
+                    f"force is small, not the kinetic energy; write @.out_of_balance = <fraction "
+                    f"of the weight> instead (default {DEFAULT_OUT_OF_BALANCE:g})")
+        return data
+
     @property
     def active(self) -> bool:
-        return self.kinetic_energy is not None or self.kinetic_fraction is not None
+        return self.out_of_balance > 0

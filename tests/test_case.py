@@ -158,7 +158,7 @@ def test_unreadable_toml_is_a_case_error(tmp_path):
 
 def test_resolved_case_round_trips():
     data = copy.deepcopy(GOOD)
-    apply_overrides(data, ["load.gravity.factor=0.5", "stop.kinetic_fraction=1e-6"])
+    apply_overrides(data, ["load.gravity.factor=0.5", "stop.out_of_balance=1e-4"])
     case = parse_case(data)
     again = parse_case(tomllib.loads(dump_case(case)))
     assert again == case

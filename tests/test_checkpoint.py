@@ -37,6 +37,9 @@ def env_with_worktree() -> dict:
 
 #: Once gravity is on, a settling phase whose step doubles every 4 steps from 0.01 to 0.08 s.
 GROWING = SMALL + ["solver.settling_dt=0.08"]
+#: A loose settling rule the short run meets from the end of the ramp (0.2 s) on: its static
+#: out-of-balance is 0.70–0.86 of the weight there, so it settles after 30 steps, at 0.49 s.
+LOOSE_RULE = SMALL + ["stop.out_of_balance=0.95", "stop.steps=30"]
 
 
 def reference_run(tmp_path_factory, overrides: list[str]) -> Path:
@@ -148,6 +151,25 @@ def test_a_run_stopped_in_its_settling_phase_resumes_with_the_same_growing_steps
         reference / "history.csv")], rel=1e-12)
     assert [r["dt"] for r in got] == pytest.approx(want_dt, rel=1e-12)
     assert_same_final_state(out, reference)
+
+
+def test_a_run_stopped_while_the_settling_rule_counts_resumes_with_its_count(tmp_path, tmp_path_factory):
+    reference = tmp_path_factory.mktemp("settles")
+    want = runner.run_case(load_case(CANTILEVER, LOOSE_RULE), reference, quiet=True)
+    assert want["status"] == "settled" and want["t_final"] == pytest.approx(0.49, rel=1e-9)
+    out = tmp_path / "run"
+    proc = start_run(out, LOOSE_RULE)
+    _, err = signal_after(proc, out, rows=27, signum=signal.SIGTERM)   # a few steps after 0.2 s
+    assert proc.returncode == EXIT_TERMINATED, err
+    counted = read_checkpoint(out).run["settling_count"]
+    assert 0 < counted < 30                    # stopped while the rule was counting
+
+    done = resume(out)
+    assert done.returncode == 0, done.stderr
+    got = json.loads((out / "summary.json").read_text())
+    # a count restarted from 0 would settle `counted` steps later
+    assert got["status"] == "settled" and got["steps"] == want["steps"]
+    assert got["t_final"] == pytest.approx(want["t_final"], rel=1e-12) and got["reason"] == want["reason"]
 
 
 def test_resume_drops_output_written_after_the_checkpoint(tmp_path, uninterrupted):
