@@ -24,12 +24,11 @@ depth is ``2 A``).
 Simulating the test (``cases/cusick_*.toml``, run by :mod:`drape.run` with
 ``[case] analysis = "cusick"``): the large-rotation Kirchhoff-Love shell on
 :func:`meshes.cusick_annulus`, clamped on the ``disc`` edge, warp along x and weft
-along y, gravity ramped on smoothly, a seeded out-of-plane velocity kick
+along y, gravity ramped on smoothly, a seeded out-of-plane perturbation
 (:mod:`drape.perturbation`) so that the unstable axisymmetric state can buckle
 into folds, Rayleigh mass damping plus the law's own viscosity and friction; the
-run stops when the kinetic energy stays below
-:func:`kinetic_energy_threshold` (``[stop] kinetic_fraction``) for a few steps,
-and :func:`cusick_post` analyses the settled shape.
+run stops when the static out-of-balance force stays below a fraction of the weight
+for a few steps (:mod:`drape.settling`), and :func:`cusick_post` analyses the settled shape.
 """
 from __future__ import annotations
 
@@ -40,7 +39,6 @@ import numpy as np
 import shapely
 from scipy.signal import find_peaks
 
-from constitutive.units import G0
 
 __all__ = [
     "CusickError",
@@ -52,7 +50,6 @@ __all__ = [
     "drape_analysis",
     "plot_top_view",
     "cusick_post",
-    "kinetic_energy_threshold",
 ]
 
 
@@ -407,30 +404,6 @@ def plot_top_view(result: CusickResult, path, title: str | None = None):
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=120)
     return path
-
-
-def kinetic_energy_threshold(areal_mass: float, specimen_radius: float, disc_radius: float,
-                             fraction: float = 1e-6) -> float:
-    """Kinetic energy below which a drape counts as settled (J).
-
-    The scale is the potential energy the hanging annulus would lose by falling the
-    whole overhang, ``E_ref = rho_A g A_annulus (R - r_d)``; settled means
-    ``E_kin < fraction * E_ref``.  With the default ``fraction = 1e-6`` the mean
-    speed is about ``sqrt(2e-6 g (R - r_d))`` ~ 1 mm/s for a 6 cm overhang.
-
-    Examples
-    --------
-    >>> round(kinetic_energy_threshold(0.2, 0.15, 0.09) * 1e9, 3)
-    5.324
-    """
-    _check_radii(specimen_radius, disc_radius)
-    if not areal_mass > 0.0:
-        raise CusickError(f"areal_mass = {areal_mass!r}: must be positive (kg/m^2)")
-    if not 0.0 < fraction < 1.0:
-        raise CusickError(f"fraction = {fraction!r}: must lie in (0, 1)")
-    overhang = specimen_radius - disc_radius
-    area = np.pi * (specimen_radius**2 - disc_radius**2)
-    return fraction * areal_mass * G0 * area * overhang
 
 
 def _nodal_displacement(mesh, displacement) -> np.ndarray:

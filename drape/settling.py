@@ -103,7 +103,7 @@ class Settling:
     >>> [rule(spring, np.array([u]), t) for t, u in [(0.1, 0.99), (0.2, 0.9999), (0.3, 1.0), (0.4, 1.0)]]
     [False, False, True, True]
     >>> print(rule.reason(0.4))
-    static out-of-balance 0 of the weight < 0.001 for 2 steps at t = 0.4 s
+    static out-of-balance 0.0e+00 of the weight < 0.001 for 2 steps at t = 0.4 s
     """
 
     def __init__(self, case):
@@ -130,5 +130,5 @@ class Settling:
 
     def reason(self, t: float) -> str:
         """Why the run stopped, for ``summary.json``."""
-        return (f"static out-of-balance {self.ratio:.2g} of the weight < {self.fraction:g} "
+        return (f"static out-of-balance {self.ratio:.1e} of the weight < {self.fraction:g} "
                 f"for {self.needed} steps at t = {t:g} s")
