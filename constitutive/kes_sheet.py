@@ -212,6 +212,11 @@ class KesSpec(_Strict):
     eps_f: float = Field(0.2, gt=0, description="Friction length ε_f [cm⁻¹] of the calibrated "
                                                  "friction (a1 = ε_f η).")
     eta: float = Field(0.5, gt=0, lt=1, description="Ratio η of the friction lengths.")
+    f2_ratio: float = Field(0.0, ge=0, lt=1, description="f2/f1 of the calibrated friction: 0 "
+                                                        "first order (Dahl, no static peak); "
+                                                        "0 < f2/f1 < 1 second order (a static "
+                                                        "peak after a reversal), with the same "
+                                                        "B and 2HB.")
     accel_time: float | None = Field(None, gt=0, description="Acceleration time of the simulated "
                                                             "KES-FB test [s] (default: the tester's).")
     G: sheet_field("G", None, "Shear rigidity G [gf/(cm·deg)], mean of warp and weft; builds the "
@@ -303,8 +308,8 @@ class KesFabricSpec(KesSpec):
     W mg/cm², T mm, G gf/(cm·deg), 2HG gf/cm, EMT %, WT gf·cm/cm²) or a string with units
     (``weight = "12.38 mg/cm^2"``); values outside the range of woven and knitted fabrics are
     refused, naming the likely unit slip. Bending: :func:`material_from_kes` (k3 = d = 0,
-    first-order friction calibrated so that the simulated KES-FB loop gives exactly B and
-    2HB); membrane: from G and the tensile values where given, else E11 = E22 = 1e4 N/m,
+    friction calibrated so that the simulated KES-FB loop gives exactly B and 2HB: first
+    order, or second order with ``f2_ratio`` > 0); membrane: from G and the tensile values where given, else E11 = E22 = 1e4 N/m,
     G12 = 50 N/m (summary.json says which)."""
 
     weight: sheet_field("weight", description="Fabric weight W [mg/cm²] (areal mass "

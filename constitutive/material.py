@@ -27,14 +27,15 @@ Building a material from KES summary values only (:func:`material_from_kes`)
   be split into viscous and frictional parts (2HB ≈ 2 M_f + 2 d v); we give it
   all to rate-independent friction, which is what holds residual curvature
   in quasi-static drape.
-* Friction is first order (Dahl): ``f2 = 0``, no static peak (the summary
-  values carry no information on one), with the short length
+* Friction is first order (Dahl) by default: ``f2 = 0``, no static peak (the summary
+  values carry no information on one; ``f2_ratio = f2/f1 > 0`` asks for a second-order
+  law with one, calibrated to the same B and 2HB), with the short length
   ``a1 = ε_f η = 0.1 cm⁻¹`` (defaults ε_f = 0.2 cm⁻¹, η = 0.5): the moment
   is within 5 % of its sliding value 0.3 cm⁻¹ after a reversal, so the loop
   is nearly a parallelogram of width 2 f1 as in a KES chart.
-* ``k1`` and ``f1`` are then chosen so that the simulated KES-FB loop
-  (:func:`constitutive.kes.run_kes` on the standard ±2.5 cm⁻¹ profile,
-  :func:`constitutive.kes.kes_values`) returns the given B and 2HB.  Both
+* ``k1`` and ``f1`` (with ``f2 = f2_ratio · f1``) are then chosen so that the
+  simulated KES-FB loop (:func:`constitutive.kes.run_kes` on the standard ±2.5 cm⁻¹
+  profile, :func:`constitutive.kes.kes_values`) returns the given B and 2HB.  Both
   are linear in (k1, f1), so this is one 2×2 solve, exact to round-off.
 
 >>> mat = load_material("fabric1")
@@ -224,26 +225,31 @@ class FabricMaterial:
 
 # ---------------------------------------------------------------- from KES summary values
 
-def _calibrate(B, HB2, eps_f, eta, profile):
-    """(k1, friction) such that the simulated loop has slope B and width HB2."""
+def _calibrate(B, HB2, eps_f, eta, profile, f2_ratio=0.0):
+    """(k1, friction) such that the simulated loop has slope B and width HB2 (f2 = f2_ratio f1)."""
     if not B > 0:
         raise MaterialError(f"B = {B!r} breaks B > 0")
     if not HB2 >= 0:
         raise MaterialError(f"2HB = {HB2!r} breaks 2HB >= 0")
     if HB2 == 0:
         return B, None
-    unit = FrictionParams(f1=1.0, f2=0.0, eps_f=eps_f, eta=eta)
+    if not 0.0 <= f2_ratio < 1.0:
+        raise MaterialError(f"f2_ratio = {f2_ratio!r} breaks 0 <= f2_ratio < 1 (f1 > f2 >= 0, "
+                            "dissipativity, thesis 3.18)")
+    # the loop's slope and width are linear in f1 at a fixed ratio f2/f1: calibrate f1 = 1
+    unit = FrictionParams(f1=1.0, f2=f2_ratio, eps_f=eps_f, eta=eta)
     s_f, w_f = kes_values(profile.kappa, friction_path(unit, profile.kappa))
     f1 = HB2 / w_f
     k1 = B - f1 * s_f
     if not k1 > 0:
         raise MaterialError(f"2HB = {HB2:g} N is too large for B = {B:g} N·m with eps_f = {eps_f:g} 1/m: "
                             "the friction alone would exceed the slope (k1 > 0 breaks)")
-    return k1, FrictionParams(f1=f1, f2=0.0, eps_f=eps_f, eta=eta)
+    return k1, FrictionParams(f1=f1, f2=f2_ratio * f1, eps_f=eps_f, eta=eta)
 
 
 def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thickness=None, *,
-                      eps_f=20.0, eta=0.5, accel_time=None, twist_rigidity=None, description="",
+                      eps_f=20.0, eta=0.5, f2_ratio=0.0, accel_time=None, twist_rigidity=None,
+                      description="",
                       source="", membrane_source=None, sheet=None, **membrane) -> FabricMaterial:
     """Build a material from KES summary values only (all arguments SI).
 
@@ -259,7 +265,11 @@ def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thic
     thickness : float, optional
         [m].
     eps_f, eta : float
-        Friction lengths: a1 = eps_f·eta [1/m] (default 0.1 cm⁻¹), f2 = 0.
+        Friction lengths: a1 = eps_f·eta [1/m] (default 0.1 cm⁻¹) and a2 = eps_f.
+    f2_ratio : float
+        f2/f1, 0 <= f2_ratio < 1: 0 (default) is first-order friction (Dahl, only a1
+        matters); above 0 a second-order law whose moment peaks after a reversal and falls
+        to the kinetic value f1 − f2, with the same B and 2HB.
     accel_time : float, optional
         T of the KES profile used for the calibration (default
         :data:`constitutive.kes.DEFAULT_ACCEL_TIME`).
@@ -292,7 +302,7 @@ def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thic
     laws = {}
     for key, B, HB2 in (("warp", B_warp, HB2_warp), ("weft", B_weft, HB2_weft)):
         try:
-            k1, fr = _calibrate(float(B), float(HB2), eps_f, eta, prof)
+            k1, fr = _calibrate(float(B), float(HB2), eps_f, eta, prof, f2_ratio)
         except (MaterialError, ParameterError) as err:
             raise MaterialError(f"{name}: {key}: {err}") from None
         laws[key] = BendingLaw(k1=k1, friction=fr)
@@ -432,7 +442,8 @@ def material_from_spec(spec: MaterialSpec, where: str = "material") -> FabricMat
     try:
         if spec.warp is None:
             return material_from_kes(spec.name, **kes_si, eps_f=to_si(spec.kes.eps_f, "eps_f"),
-                                     eta=spec.kes.eta, accel_time=spec.kes.accel_time,
+                                     eta=spec.kes.eta, f2_ratio=spec.kes.f2_ratio,
+                                     accel_time=spec.kes.accel_time,
                                      sheet=spec.kes.extras_si(), **common)
         laws = {}
         for key in ("warp", "weft"):

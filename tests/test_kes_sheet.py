@@ -151,3 +151,15 @@ def test_summary_json_says_which_membrane_values_came_from_the_sheet(tmp_path):
     assert mem["G12"]["source"].startswith("KES G") and mem["E11"]["source"].startswith("KES LT·Fm/εm")
     assert written["kes_si"]["HG2"] == pytest.approx(0.8 * GF / 1e-2, rel=1e-12)
     assert written["thickness_m"] == pytest.approx(3e-4, rel=1e-12)
+
+
+def test_f2_ratio_of_a_case_sheet_builds_second_order_friction_with_the_same_B_and_2HB():
+    first = build_material(load_case(CUSICK_KES))
+    second = build_material(load_case(CUSICK_KES, ["material.kes.f2_ratio=0.5"]))
+    assert first.warp.friction.f2 == 0.0
+    assert second.warp.friction.f2 == pytest.approx(0.5 * second.warp.friction.f1, rel=1e-14)
+    for direction in ("warp", "weft"):
+        a, b = first.simulated_kes()[direction], second.simulated_kes()[direction]
+        assert (b.B, b.HB2) == pytest.approx((a.B, a.HB2), rel=1e-12)
+    with pytest.raises(CaseError, match="material.kes.f2_ratio"):
+        load_case(CUSICK_KES, ["material.kes.f2_ratio=1.0"])

@@ -159,3 +159,30 @@ def test_fabric_material_validation_and_replace():
     m = FabricMaterial("x", 0.1, None, w, f)
     assert m.replace(warp=BendingLaw(k1=9e-6)).twist_rigidity == pytest.approx(3e-6)
     assert FabricMaterial("x", 0.1, None, w, f, twist_rigidity=5e-6).replace(warp=w).twist_rigidity == 5e-6
+
+
+@pytest.mark.parametrize("ratio", [0.3, 0.7])
+def test_second_order_friction_from_kes_keeps_B_and_2HB_and_has_a_static_peak(ratio):
+    from constitutive.derived import kinetic_friction, static_friction
+    from constitutive.friction import friction_path
+
+    Bs, Hs = to_si(0.067, "B"), to_si(0.033, "HB2")
+    m = material_from_kes("t", Bs, Bs, Hs, Hs, areal_mass=0.16, f2_ratio=ratio)
+    fr = m.warp.friction
+    assert fr.f2 == pytest.approx(ratio * fr.f1, rel=1e-14)
+    loop = run_kes(m.warp, kes_profile(dt=1e-3))
+    v = kes_values(loop.kappa, loop.moment)
+    assert v.B == pytest.approx(Bs, rel=1e-12) and v.HB2 == pytest.approx(Hs, rel=1e-12)
+    # a1 = 0.1, a2 = 0.2 cm⁻¹ are short against the 1.5 cm⁻¹ from a reversal to |κ| = 1 cm⁻¹:
+    # there the loop's half width is the kinetic moment f1 − f2 (independent estimate)
+    assert fr.f1 - fr.f2 == pytest.approx(Hs / 2, rel=0.01)
+    # from rest the moment peaks at the closed-form static friction (thesis 3.11), above f1 − f2
+    kappa = np.linspace(0.0, 250.0, 250_001)
+    peak = friction_path(fr, kappa).max()
+    assert peak == pytest.approx(static_friction(fr), rel=1e-6)
+    assert peak > kinetic_friction(fr) * (1.0 + 0.02)
+
+
+def test_f2_ratio_must_leave_f1_above_f2():
+    with pytest.raises(MaterialError, match="f2_ratio = 1.0 breaks 0 <= f2_ratio < 1"):
+        material_from_kes("x", 1e-5, 1e-5, 1e-4, 1e-4, areal_mass=0.1, f2_ratio=1.0)
