@@ -1,0 +1,247 @@
+"""Sensitivity of the wool's Cusick drape: DC and node count, one factor at a time.
+
+The base is ``cases/validation/wool_tropical.toml`` (Matsudaira et al. 2015: B = 0.067
+gf·cm²/cm, 2HB = 0.033 gf·cm/cm, W = 16.29 mg/cm², 25.4 cm specimen on a 12.7 cm disc;
+measured DC 49.8 %, 5 nodes). Its bending length is c = (B/W)^(1/3) = 1.6 cm against a
+6.35 cm overhang, so the drape's curvatures are of order 1/c ≈ 0.6 cm⁻¹. Every factor below
+moves one thing away from that case, to a low and a high level (or to one alternative),
+chosen from physics or the literature as stated:
+
+``friction_length``  ``material.kes.eps_f``, default 0.2 cm⁻¹ (η = 0.5: the first-order length
+    a1 = ε_f η = 0.1 cm⁻¹, sliding within 0.3 cm⁻¹ of a reversal). Low 0.05 cm⁻¹
+    (a1 = 0.025 cm⁻¹: practically Coulomb friction). High 0.8 cm⁻¹ (a1 = 0.4 cm⁻¹: sliding
+    only 1.2 cm⁻¹ after a reversal, beyond the drape's curvatures, so folds bend mostly on
+    the friction's stiff branch; the thesis's fits of Deng's KES loops have ε_f ≈ 0.73 cm⁻¹,
+    cases/materials/fabric1.toml). Both still give exactly the sheet's B and 2HB. At first
+    order η enters only through a1 = ε_f η, so an η level would repeat this factor; η's own
+    effect comes with f2 > 0 (next factor).
+``friction_order``  ``material.kes.f2_ratio``, default 0 (first order, Dahl: no static peak).
+    f2/f1 = 0.3 and 0.7 at η = 0.5, calibrated to the same B and 2HB: after each reversal the
+    moment peaks 3 % and 41 % above the kinetic moment f1 − f2 (thesis 3.10-3.11), spanning
+    the excess of static over kinetic friction reported for fibre assemblies (up to some tens
+    of per cent; Morton & Hearle, *Physical properties of textile fibres*).
+``friction_off``  ``material.friction = false``: the calibrated elastic part alone (k1 ≈ B).
+``membrane_E``  ``material.kes.E_warp`` = ``E_weft``, default 1e4 N/m. Low 3e3 N/m (in
+    KES-FB1 terms E = LT·Fm/εm with Fm = 500 gf/cm: EMT ≈ 10 % at LT = 0.65, a loose or
+    stretchy weave), high 3e4 N/m (EMT ≈ 1 %, a tight low-crimp weave): the span of woven
+    fabrics. A fabric's tensile stiffness is 10¹⁰ times its bending rigidity per m², so a DC
+    that moves with it shows membrane locking, not physics.
+``shear_G12``  ``material.kes.G``, default G12 = 50 N/m (G ≈ 0.89 gf/(cm·deg)). Low
+    G = 0.3 gf/(cm·deg) (G12 ≈ 17 N/m), high 2.7 gf/(cm·deg) (G12 ≈ 152 N/m): factor 3 either
+    way, inside the 0.2-5 gf/(cm·deg) of apparel fabrics (constitutive/kes_sheet.py). Folds
+    of a circular specimen need in-plane shear (a trellised weave), so G12 may set the node
+    count.
+``perturbation_amplitude``  ``load.perturbation.amplitude``, default 0.02 of the weight.
+    0.005 and 0.08 (×1/4, ×4).
+``perturbation_spectrum``  ``load.perturbation.k_min``..``k_max``, default 2-12. 2-6 (long
+    waves only: no mode with the 8 simulated folds) and 6-18 (short waves only: no mode with
+    the 5 measured folds). If the node count follows the spectrum, the imperfection, not the
+    fabric, chooses it.
+``perturbation_duration``  ``load.perturbation.duration``, default 0.4 s. 0.1 s (over before
+    the hem has fallen: free fall over the overhang takes √(2·0.0635 m/g) ≈ 0.11 s) and 1.6 s
+    (still pushing after the folds have formed).
+``perturbation_seed``  ``load.perturbation.seed``, default 0. Seeds 1 and 2: not low and
+    high, the bar is the seed noise against which the other bars are read. Left out with
+    ``--seeds N > 1``, where the base's spread over its seeds is drawn as a band instead.
+``gravity_ramp``  ``load.gravity.ramp_time``, default 0.2 s (hardly slower than free fall:
+    a drop). Low 0.02 s (a drop). High 2 s (a slow lowering: 4 × the 0.5 s swing period
+    2π√(L/g) of the 6.35 cm overhang as a pendulum, so the fabric follows the load), with the
+    perturbation stretched over the same 2 s so that it still acts while the folds form.
+    A test that agitates the specimen before reading is not covered: it needs a gravity
+    ``history``, which ``--set`` cannot put beside the case's ``ramp_time``.
+``damping``  ``model.damping.alpha`` (mass-proportional), default 20 1/s: damping ratio
+    α/(2ω) ≈ 0.8 of the overhang's pendulum mode ω ≈ √(g/L) ≈ 12 rad/s. Low 2 1/s: air drag,
+    ½ ρ_air C_d v² with C_d ≈ 1.2 linearised at v ≈ 0.3 m/s over ρ_A v for this 163 g/m²
+    fabric, gives α ≈ 1-3 1/s. High 80 1/s (overdamped: the fabric creeps into place).
+``mesh``  Low: 2/3 of the base's radial and circumferential divisions (4 × 48 for 6 × 72),
+    same grading. High: ``mesh.refine = 1`` (12 × 144, every triangle in four; the
+    convergence level, about 4 × the cost).
+
+Usage::
+
+    python benchmarks/bench_sensitivity.py --out out/sensitivity            (the full study:
+                                      23 runs of minutes each; --workers N, default one per core)
+    python benchmarks/bench_sensitivity.py --factors damping,mesh --out out/sens_dm
+    python benchmarks/bench_sensitivity.py --seeds 3 --out out/sensitivity_3seeds
+    python benchmarks/bench_sensitivity.py --resume --out out/sensitivity    (after a stop)
+    python benchmarks/bench_sensitivity.py --tiny                (the plumbing, in seconds)
+    python benchmarks/bench_sensitivity.py --list                (factors and levels)
+
+``--tiny`` runs every factor on a very coarse, short case (``mesh.n_radial = 2``,
+``mesh.n_circumferential = 24``, ``solver.t_end = 0.05``): its figures mean nothing. The
+runs go through :mod:`drape.sweep` (Dask, ``OUT/results.csv``, ``--resume``); the study is
+printed as a markdown table and written to ``OUT/sensitivity.md``, ``OUT/sensitivity.json``
+and the tornado chart ``OUT/tornado.png`` (:mod:`drape.sensitivity`).
+
+Exit codes: 0 every run finished (whatever its status), 1 bad input, 130 interrupted,
+143 terminated: finished runs stay in ``OUT/results.csv`` (continue with ``--resume``).
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:            # run as a script from anywhere
+    sys.path.insert(0, str(ROOT))
+
+from drape.sensitivity import Factor, Level, StudyError, run_study  # noqa: E402
+
+BASE_CASE = ROOT / "cases" / "validation" / "wool_tropical.toml"
+#: The coarse, short case of ``--tiny`` (plumbing only).
+TINY = ["mesh.n_radial=2", "mesh.n_circumferential=24", "solver.t_end=0.05"]
+
+
+def _coarser(mesh) -> dict:
+    """Keys of the low mesh level: 2/3 of the divisions (even around), else 1.5 × the size."""
+    if mesh.n_radial is None or mesh.n_circumferential is None:
+        return {"mesh.target_size": repr(1.5 * mesh.target_size)}
+    n_c = max(8, 2 * round(mesh.n_circumferential / 3))
+    return {"mesh.n_radial": str(max(1, round(2 * mesh.n_radial / 3))),
+            "mesh.n_circumferential": str(n_c)}
+
+
+def factors(case) -> list[Factor]:
+    """The study's factors around ``case`` (a loaded Cusick case; see the module docstring)."""
+    kes, pert = case.material.kes, case.load.perturbation
+    if kes is None or pert is None or case.load.gravity is None or case.case.analysis != "cusick":
+        raise StudyError("the base case must be a Cusick case with [material.kes], "
+                         "[load.gravity] and [load.perturbation]")
+    mesh = case.mesh
+    low_mesh = _coarser(mesh)
+    low_label = (f"{low_mesh['mesh.n_radial']} × {low_mesh['mesh.n_circumferential']}"
+                 if "mesh.n_radial" in low_mesh else f"size {low_mesh['mesh.target_size']} m")
+    base_mesh = (f"{mesh.n_radial} × {mesh.n_circumferential}" if mesh.n_radial else
+                 f"size {mesh.target_size} m") + (f", refine {mesh.refine}" if mesh.refine else "")
+    return [
+        Factor("friction_length", "friction length ε_f", f"{kes.eps_f:g} cm⁻¹", (
+            Level("low", "0.05 cm⁻¹", {"material.kes.eps_f": "0.05"}, "low"),
+            Level("high", "0.8 cm⁻¹", {"material.kes.eps_f": "0.8"}, "high"))),
+        Factor("friction_order", "second-order friction f2/f1", f"{kes.f2_ratio:g}", (
+            Level("low", "0.3", {"material.kes.f2_ratio": "0.3"}, "low"),
+            Level("high", "0.7", {"material.kes.f2_ratio": "0.7"}, "high"))),
+        Factor("friction_off", "friction", "from 2HB", (
+            Level("off", "off", {"material.friction": "false"}, "low"),)),
+        Factor("membrane_E", "membrane E11 = E22", f"{case_membrane(case, 'E11'):g} N/m", (
+            Level("low", "3e3 N/m", {"material.kes.E_warp": "3e3 N/m",
+                                     "material.kes.E_weft": "3e3 N/m"}, "low"),
+            Level("high", "3e4 N/m", {"material.kes.E_warp": "3e4 N/m",
+                                      "material.kes.E_weft": "3e4 N/m"}, "high"))),
+        Factor("shear_G12", "in-plane shear G12", f"{case_membrane(case, 'G12'):g} N/m", (
+            Level("low", "17 N/m", {"material.kes.G": "0.3"}, "low"),
+            Level("high", "152 N/m", {"material.kes.G": "2.7"}, "high"))),
+        Factor("perturbation_amplitude", "perturbation amplitude", f"{pert.amplitude:g}", (
+            Level("low", "0.005", {"load.perturbation.amplitude": "0.005"}, "low"),
+            Level("high", "0.08", {"load.perturbation.amplitude": "0.08"}, "high"))),
+        Factor("perturbation_spectrum", "perturbation modes k", f"{pert.k_min}–{pert.k_max}", (
+            Level("low", "2–6", {"load.perturbation.k_min": "2",
+                                 "load.perturbation.k_max": "6"}, "low"),
+            Level("high", "6–18", {"load.perturbation.k_min": "6",
+                                   "load.perturbation.k_max": "18"}, "high"))),
+        Factor("perturbation_duration", "perturbation duration", f"{pert.duration:g} s", (
+            Level("low", "0.1 s", {"load.perturbation.duration": "0.1"}, "low"),
+            Level("high", "1.6 s", {"load.perturbation.duration": "1.6"}, "high"))),
+        Factor("perturbation_seed", "perturbation seed", f"{pert.seed}", (
+            Level("s1", "seed 1", {"load.perturbation.seed": "1"}, "low"),
+            Level("s2", "seed 2", {"load.perturbation.seed": "2"}, "high"))),
+        Factor("gravity_ramp", "gravity ramp time", f"{case.load.gravity.ramp_time:g} s", (
+                   Level("drop", "0.02 s", {"load.gravity.ramp_time": "0.02"}, "low"),
+                   Level("lowering", "2 s (perturbation over 2 s)",
+                         {"load.gravity.ramp_time": "2.0",
+                          "load.perturbation.duration": "2.0"}, "high"))),
+        Factor("damping", "damping α", f"{case.model.damping.alpha:g} 1/s", (
+            Level("low", "2 1/s", {"model.damping.alpha": "2"}, "low"),
+            Level("high", "80 1/s", {"model.damping.alpha": "80"}, "high"))),
+        Factor("mesh", "mesh", base_mesh, (
+            Level("coarse", low_label, low_mesh, "low"),
+            Level("refine1", f"refine {mesh.refine + 1}",
+                  {"mesh.refine": str(mesh.refine + 1)}, "high"))),
+    ]
+
+
+def case_membrane(case, key: str) -> float:
+    """The membrane stiffness ``key`` [N/m] the base case's material gets."""
+    from drape.build import build_material
+
+    return float(getattr(build_material(case), key))
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command-line entry point; returns the exit code."""
+    from drape.case import CaseError, load_case
+    from drape.sensitivity import markdown_table, factor_sentences
+    from drape.sweep import SweepError
+    from drape.termination import EXIT_TERMINATED, Terminated, sigterm_raises
+
+    p = argparse.ArgumentParser(
+        prog="python benchmarks/bench_sensitivity.py",
+        description="One-factor-at-a-time sensitivity of a Cusick drape (DC and nodes) around "
+                    "the wool of the validation set; table, JSON and tornado chart in OUT.")
+    p.add_argument("--case", default=str(BASE_CASE), help="base case (default: the wool)")
+    p.add_argument("--out", metavar="OUT", help="study folder (default out/sensitivity, "
+                   "out/sensitivity_tiny with --tiny)")
+    p.add_argument("--factors", metavar="NAME,...", help="only these factors (see --list)")
+    p.add_argument("--seeds", type=int, default=1, metavar="N",
+                   help="run every level under the perturbation seeds 0..N-1 (default 1)")
+    p.add_argument("--tiny", action="store_true",
+                   help="coarse, short runs: " + " ".join(TINY) + " (plumbing only)")
+    p.add_argument("--set", metavar="KEY=VALUE", action="append", default=[], dest="overrides",
+                   help="override a case key in every run")
+    p.add_argument("--workers", type=int, metavar="N", help="local Dask worker processes")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler")
+    p.add_argument("--resume", action="store_true", help="keep the finished runs of OUT")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--list", action="store_true", help="print the factors and levels, run nothing")
+    args = p.parse_args(argv)
+    overrides = (TINY if args.tiny else []) + args.overrides
+    out = Path(args.out or ("out/sensitivity_tiny" if args.tiny else "out/sensitivity"))
+    try:
+        if args.seeds < 1:
+            raise StudyError(f"--seeds = {args.seeds}: must be >= 1")
+        if args.workers is not None and args.workers < 1:
+            raise StudyError(f"--workers = {args.workers}: must be >= 1")
+        try:
+            case = load_case(args.case, overrides)
+        except CaseError as exc:
+            raise StudyError(f"case {args.case}: {' '.join(str(exc).split())}") from None
+        chosen = factors(case)
+        if args.seeds > 1:          # the ensemble's own spread replaces the seed factor
+            chosen = [f for f in chosen if f.name != "perturbation_seed"]
+        if args.factors:
+            wanted = [w.strip() for w in args.factors.split(",") if w.strip()]
+            known = {f.name for f in chosen}
+            unknown = [w for w in wanted if w not in known]
+            if unknown:
+                raise StudyError(f"--factors: unknown {', '.join(unknown)}; known: "
+                                 f"{', '.join(sorted(known))}")
+            chosen = [f for f in chosen if f.name in wanted]
+        if args.list:
+            for f in chosen:
+                levels = "; ".join(f"{lv.label} ({', '.join(f'{k}={v}' for k, v in lv.keys.items())})"
+                                   for lv in f.levels)
+                print(f"{f.name}: {f.title}, default {f.base_label} -> {levels}")
+            return 0
+        with sigterm_raises():
+            study = run_study(args.case, chosen, out, overrides=overrides, seeds=args.seeds,
+                              workers=args.workers, scheduler=args.scheduler,
+                              resume=args.resume, quiet=args.quiet)
+    except (StudyError, SweepError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    except Terminated:
+        print(f"study terminated; continue with --resume --out {out}", file=sys.stderr)
+        return EXIT_TERMINATED
+    except KeyboardInterrupt:
+        print(f"study interrupted; continue with --resume --out {out}", file=sys.stderr)
+        return 130
+    print(markdown_table(study))
+    print()
+    print("\n".join(factor_sentences(study)))
+    files = study["files"]
+    print(f"\ntable in {files['md']} and {files['json']}; tornado chart in {files['png']}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
