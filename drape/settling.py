@@ -5,9 +5,11 @@ static problem is in balance: the out-of-balance force of the committed configur
 
     r(u) = f_int(u) + f_friction(u) − f_ext(t)        (no inertia, no Rayleigh or law viscosity),
 
-restricted to the free dofs, has a norm below ``stop.out_of_balance`` times the weight (the
-norm of the full self-weight force vector, ``model.force_scale(t)``) for ``stop.steps``
-consecutive converged steps after the loads stopped changing.
+restricted to the free dofs, has a norm below ``stop.out_of_balance`` times the weight for
+``stop.steps`` consecutive converged steps after the loads stopped changing. The weight is
+``model.force_scale(t)``: for the shell the norm of the full self-weight force vector (plus
+edge loads, if any), for the plate the norm of its external load vector at the load's value at
+``t`` (gravity and pressure; once the loads stop changing, their final value).
 
 Why not the kinetic energy: a fabric held back by the law's viscosity ``d κ̇`` (or by air drag
 at a long time step) creeps towards equilibrium with a tiny speed, so its kinetic energy is
