@@ -16,7 +16,8 @@ Studies (each a set of runs of cases/cusick_*.toml with dotted overrides):
                    refinement, and the cantilever: wall time, steps, Newton iterations, force
                    evaluations, factorisations and the split between assembly, law, linear
                    solve and output (``summary.json`` ``profile``). ``--code DIR`` runs the
-                   same cases with another checkout (e.g. an older commit) for a side-by-side.
+                   same cases with another checkout (e.g. an older commit; its own case files)
+                   for a side-by-side.
 * ``robustness``   KES fabrics B = 0.01, 0.03, 0.1, 0.3 gf·cm²/cm, W = 8, 25 mg/cm², 2HB = 0.4 B
                    and 1.2 B (per cm), with friction, and each (B, W) without: every run must settle.
 * ``convergence``  Fabric 1 on the default mesh (6 x 72, radial_grading 4), on 8 x 96 (x4/3) and
@@ -28,7 +29,7 @@ Usage::
 
     python benchmarks/bench_cusick.py --study fabrics --out out/bench_cusick
     python benchmarks/bench_cusick.py --study all --jobs 2        (long: several runs of minutes)
-    python benchmarks/bench_cusick.py --study speed --only fabric1 --set solver.t_end=0.3 --code ../old
+    python benchmarks/bench_cusick.py --study speed --only cusick_fabric1 --set solver.t_end=0.3 --code ../old
 
 Every run writes its own directory (VTU series, summary.json, top-view PNG); the script prints a
 table and writes ``results.json`` and, for the sweep, ``dc_vs_bending_length.png``.
@@ -75,7 +76,7 @@ def _run(args):
     return a compact record from its summary.json."""
     label, case_file, overrides, out, code = args
     code = Path(code or ROOT)
-    cmd = [sys.executable, "-m", "drape.run", str(ROOT / case_file), "--out", str(out), "--quiet"]
+    cmd = [sys.executable, "-m", "drape.run", str(code / case_file), "--out", str(Path(out).resolve()), "--quiet"]
     for o in overrides:
         cmd += ["--set", o]
     env = {**os.environ, "PYTHONPATH": str(code)}
