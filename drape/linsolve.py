@@ -48,11 +48,26 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-__all__ = ["LinearSolverError", "FreeRestriction", "DirectSolver", "pardiso_available"]
+__all__ = ["LinearSolverError", "FreeRestriction", "DirectSolver", "pardiso_available", "blas_threads"]
 
 BACKENDS = ("auto", "pardiso", "superlu")
 #: "auto" takes SuperLU below this order: PARDISO's thread start-up outweighs its speed there.
 PARDISO_MIN_ORDER = 2000
+
+
+def blas_threads(limit: int = 1):
+    """Context in which NumPy's BLAS (OpenBLAS) uses at most ``limit`` threads.
+
+    In a drape step the cores are taken by the compiled element kernels (numba) and by
+    PARDISO (OpenMP); OpenBLAS threads waking for vector norms and small products on top of
+    them wait for a core, and a 13 000-entry norm then costs milliseconds instead of
+    microseconds (a Newmark step of the Cusick drape: 5.9 s with the default, 3.9 s with
+    one BLAS thread, benchmarks/bench_cusick.py). Uses ``threadpoolctl``.
+    """
+    from threadpoolctl import ThreadpoolController
+
+    # OpenBLAS only: MKL's threads are PARDISO's, set by MKL itself
+    return ThreadpoolController().select(internal_api="openblas").limit(limits=limit)
 
 
 class LinearSolverError(RuntimeError):

@@ -59,7 +59,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from drape.linsolve import DirectSolver, FreeRestriction, LinearSolverError
+from drape.linsolve import DirectSolver, FreeRestriction, LinearSolverError, blas_threads
 from drape.newton import NewtonPolicy, NewtonTolerances, newton
 
 __all__ = [
@@ -513,6 +513,7 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
         from tqdm import tqdm
 
         bar = tqdm(total=float(t_end - state.t), unit="s", unit_scale=False, desc="integrate")
+    threads = blas_threads(1)
     try:
         while state.t < t_end - eps:
             while hits and hits[0] <= state.t + eps:
@@ -547,6 +548,7 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
             if on_step is not None and on_step(state, info) is True:
                 break
     finally:
+        threads.unregister()
         if bar is not None:
             bar.close()
     return state
@@ -630,6 +632,7 @@ def quasi_static(model, load_factors, times=None, state: NewmarkState | None = N
         from tqdm import tqdm
 
         bar = tqdm(total=lam.size, desc="quasi-static")
+    threads = blas_threads(1)
 
     def solve(lam_k, t_k):
         model.load_scale = lam_k
@@ -668,6 +671,7 @@ def quasi_static(model, load_factors, times=None, state: NewmarkState | None = N
             if on_step is not None and on_step(state, info) is True:
                 break
     finally:
+        threads.unregister()
         if bar is not None:
             bar.close()
     return state
