@@ -172,7 +172,7 @@ def main(argv: list[str] | None = None) -> int:
     from drape.case import CaseError, load_case
     from drape.sensitivity import markdown_table, factor_sentences
     from drape.sweep import SweepError
-    from drape.termination import EXIT_TERMINATED, Terminated, sigterm_raises
+    from drape.termination import sigterm_raises, stopped
 
     p = argparse.ArgumentParser(
         prog="python benchmarks/bench_sensitivity.py",
@@ -229,12 +229,8 @@ def main(argv: list[str] | None = None) -> int:
     except (StudyError, SweepError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
-    except Terminated:
-        print(f"study terminated; continue with --resume --out {out}", file=sys.stderr)
-        return EXIT_TERMINATED
-    except KeyboardInterrupt:
-        print(f"study interrupted; continue with --resume --out {out}", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:
+        return stopped(exc, "study", f"continue with --resume --out {out}")
     print(markdown_table(study))
     print()
     print("\n".join(factor_sentences(study)))

@@ -46,7 +46,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from drape.case import CaseError
-from drape.termination import EXIT_TERMINATED, Terminated, sigterm_raises
+from drape.termination import sigterm_raises, stopped
 
 __all__ = ["SweepRow", "SweepError", "read_table", "grid_rows", "run_row", "run_sweep",
            "RESULT_COLUMNS", "read_results", "main"]
@@ -471,14 +471,8 @@ def main(argv: list[str] | None = None) -> int:
     except SweepError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
-    except Terminated:
-        print(f"sweep terminated; finished runs are in {out / 'results.csv'} "
-              f"(continue with --resume)", file=sys.stderr)
-        return EXIT_TERMINATED
-    except KeyboardInterrupt:
-        print(f"sweep interrupted; finished runs are in {out / 'results.csv'} "
-              f"(continue with --resume)", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:
+        return stopped(exc, "sweep", f"finished runs are in {out / 'results.csv'} (continue with --resume)")
     if not args.quiet:
         for rec in records:
             dc = f", DC {float(rec['DC_percent']):.1f} %" if rec["DC_percent"] != "" else ""

@@ -8,10 +8,11 @@ SIGTERM.
 from __future__ import annotations
 
 import signal
+import sys
 import threading
 from contextlib import contextmanager
 
-__all__ = ["Terminated", "EXIT_TERMINATED", "sigterm_raises"]
+__all__ = ["Terminated", "EXIT_TERMINATED", "sigterm_raises", "stopped"]
 
 #: Exit code of a run or sweep stopped by SIGTERM (128 + signal number, as a shell reports it).
 EXIT_TERMINATED = 128 + int(signal.SIGTERM)
@@ -40,3 +41,15 @@ def sigterm_raises():
         yield
     finally:
         signal.signal(signal.SIGTERM, previous)
+
+
+def stopped(exc: KeyboardInterrupt, what: str, hint: str) -> int:
+    """Say that a batch (sweep, study, validation set) was stopped and how to go on; return
+    its exit code (:data:`EXIT_TERMINATED` for SIGTERM, 130 for Ctrl-C).
+
+    >>> stopped(Terminated(), "sweep", "continue with --resume")
+    143
+    """
+    terminated = isinstance(exc, Terminated)
+    print(f"{what} {'terminated' if terminated else 'interrupted'}; {hint}", file=sys.stderr)
+    return EXIT_TERMINATED if terminated else 130

@@ -166,7 +166,7 @@ def validation_figure(records: list[dict], size: float = 3.6):
 def main(argv: list[str] | None = None) -> int:
     """Command-line entry point; returns the exit code."""
     from drape.sweep import SweepError
-    from drape.termination import EXIT_TERMINATED, Terminated, sigterm_raises
+    from drape.termination import sigterm_raises, stopped
 
     p = argparse.ArgumentParser(prog="python -m drape.validate", description=(
         "Run the validation cases (Cusick cases with a [measured] table) as seed ensembles and "
@@ -196,12 +196,8 @@ def main(argv: list[str] | None = None) -> int:
     except (ValidationSetError, SweepError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
-    except Terminated:
-        print(f"validation terminated; continue with --resume --out {out}", file=sys.stderr)
-        return EXIT_TERMINATED
-    except KeyboardInterrupt:
-        print(f"validation interrupted; continue with --resume --out {out}", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:
+        return stopped(exc, "validation", f"continue with --resume --out {out}")
     print(comparison_table(records))
     png = out / "validation.png"
     validation_figure(records).savefig(png, dpi=110)
