@@ -25,7 +25,9 @@ import numpy as np
 __all__ = ["Settling", "out_of_balance", "DEFAULT_OUT_OF_BALANCE"]
 
 #: Default ``stop.out_of_balance``: the static out-of-balance force, as a fraction of the weight,
-#: below which a run counts as settled. Chosen by measurement (BENCHMARKS.md, "Settling rule").
+#: below which a run counts as settled. Measured (BENCHMARKS.md, "Settling rule"): a creeping
+#: viscous strip's tip is short of rest by about this fraction (0.1 %); Fabric 1's Cusick drape
+#: lingers in an unbalanced 9-node state whose out-of-balance never falls below 1.9e-3.
 DEFAULT_OUT_OF_BALANCE = 1e-3
 
 
@@ -34,8 +36,8 @@ def out_of_balance(model, u, t: float) -> float:
 
     ``internal + friction − external`` at time ``t``: the model's force with zero velocity and
     acceleration (``model.evaluate``, no tangent), so neither inertia nor Rayleigh damping nor
-    the law's viscous and curvature-inertia terms take part. The friction moment is that of the committed state at
-    ``u`` (the trial curvature equals the committed one). Homogeneous Dirichlet dofs
+    the law's viscous and curvature-inertia terms take part. The friction moment is that of the
+    committed state at ``u`` (the trial curvature equals the committed one). Homogeneous Dirichlet dofs
     (``model.fixed_dofs``) and imposed ones (``model.prescribed(t)``) carry reactions and are
     left out.
 
