@@ -480,7 +480,7 @@ def load_material(name_or_path) -> FabricMaterial:
     >>> load_material("no-such-fabric")
     Traceback (most recent call last):
     ...
-    constitutive.material.MaterialError: unknown material 'no-such-fabric'; bundled: fabric1, fabric2, kes_example (or give a path to a .toml file)
+    constitutive.material.MaterialError: unknown material 'no-such-fabric'; bundled: fabric1, fabric2, fabric2-table4.14, kes_example (or give a path to a .toml file)
     """
     path = _resolve(name_or_path)
     try:
