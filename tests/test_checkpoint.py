@@ -25,7 +25,9 @@ CANTILEVER = ROOT / "cases" / "cantilever.toml"
 #: A small friction cantilever: gravity ramps on over 0.2 s, then 0.4 s under constant load.
 #: Newton converges tightly, so the comparison sees what the checkpoint holds, not the
 #: tolerance of the iterations (an iteration path resumed elsewhere ends elsewhere in it).
-SMALL = ["mesh.nx=3", "mesh.ny=1", "solver.t_end=0.6", "solver.atol=1e-14", "solver.rtol=1e-11"]  # atol: the round-off floor of R (~5e-15 N)
+# atol: the round-off floor of R (~5e-15 N); settling_dt: 0.01 s steps throughout
+SMALL = ["mesh.nx=3", "mesh.ny=1", "solver.t_end=0.6", "solver.atol=1e-14", "solver.rtol=1e-11",
+         "solver.settling_dt=0.01"]
 RTOL = 1e-10
 
 

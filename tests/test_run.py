@@ -426,7 +426,8 @@ def test_nonnegative_friction_tangent_changes_newton_only_not_the_solution(tmp_p
     tips = {}
     for ft in ("consistent", "nonnegative"):
         case = load_case(Path(__file__).parents[1] / "cases" / "cantilever.toml",
-                         ["material.name=fabric2", f"model.friction_tangent={ft}", "solver.t_end=0.5"])
+                         ["material.name=fabric2", f"model.friction_tangent={ft}", "solver.t_end=0.5",
+                          "solver.settling_dt=0.01"])
         runner.run_case(case, tmp_path / ft, quiet=True)
         tips[ft] = np.array([row["tip_uz"] for row in read_history(tmp_path / ft)])
     assert len(tips["consistent"]) == len(tips["nonnegative"]) > 40
