@@ -171,7 +171,7 @@ def main(argv: list[str] | None = None) -> int:
     """Command-line entry point; returns the exit code."""
     from drape.case import CaseError, load_case
     from drape.sensitivity import markdown_table, factor_sentences
-    from drape.sweep import SweepError
+    from drape.sweep import SweepError, add_batch_options
     from drape.termination import sigterm_raises, stopped
 
     p = argparse.ArgumentParser(
@@ -186,12 +186,7 @@ def main(argv: list[str] | None = None) -> int:
                    help="run every level under the perturbation seeds 0..N-1 (default 1)")
     p.add_argument("--tiny", action="store_true",
                    help="coarse, short runs: " + " ".join(TINY) + " (plumbing only)")
-    p.add_argument("--set", metavar="KEY=VALUE", action="append", default=[], dest="overrides",
-                   help="override a case key in every run")
-    p.add_argument("--workers", type=int, metavar="N", help="local Dask worker processes")
-    p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler")
-    p.add_argument("--resume", action="store_true", help="keep the finished runs of OUT")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_batch_options(p, resume="keep the finished runs of OUT")
     p.add_argument("--list", action="store_true", help="print the factors and levels, run nothing")
     args = p.parse_args(argv)
     overrides = (TINY if args.tiny else []) + args.overrides

@@ -429,6 +429,14 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--seeds", type=int, metavar="N", help="run every row (or the case alone) under "
                    "the perturbation seeds 0..N-1; DIR/ensemble.json summarises each row's seeds")
     p.add_argument("--out", metavar="DIR", required=True, help="sweep folder")
+    add_batch_options(p, resume="keep the finished rows of DIR/results.csv and run the others",
+                      quiet="no progress bar, no final table")
+    return p
+
+
+def add_batch_options(p, resume: str, quiet: str = "no progress bars") -> None:
+    """The options every batch of runs on Dask shares (sweep, validation set, sensitivity study):
+    ``--set``, ``--scheduler``, ``--workers``, ``--resume`` and ``--quiet`` (their help: ``resume``, ``quiet``)."""
     p.add_argument("--set", metavar="KEY=VALUE", action="append", default=[], dest="overrides",
                    help="override a case key in every run (as in drape.run)")
     p.add_argument("--scheduler", metavar="ADDRESS",
@@ -436,10 +444,8 @@ def _parser() -> argparse.ArgumentParser:
                         "(default: DASK_SCHEDULER_ADDRESS, else a local cluster)")
     p.add_argument("--workers", type=int, metavar="N",
                    help="worker processes of the local cluster (default: one per core)")
-    p.add_argument("--resume", action="store_true",
-                   help="keep the finished rows of DIR/results.csv and run the others")
-    p.add_argument("--quiet", action="store_true", help="no progress bar, no final table")
-    return p
+    p.add_argument("--resume", action="store_true", help=resume)
+    p.add_argument("--quiet", action="store_true", help=quiet)
 
 
 def main(argv: list[str] | None = None) -> int:

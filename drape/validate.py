@@ -165,7 +165,7 @@ def validation_figure(records: list[dict], size: float = 3.6):
 
 def main(argv: list[str] | None = None) -> int:
     """Command-line entry point; returns the exit code."""
-    from drape.sweep import SweepError
+    from drape.sweep import SweepError, add_batch_options
     from drape.termination import sigterm_raises, stopped
 
     p = argparse.ArgumentParser(prog="python -m drape.validate", description=(
@@ -176,12 +176,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--seeds", type=int, default=1, metavar="N",
                    help="perturbation seeds per case, 0..N-1 (default 1)")
     p.add_argument("--out", default="out/validation", metavar="OUT", help="output folder")
-    p.add_argument("--set", metavar="KEY=VALUE", action="append", default=[], dest="overrides",
-                   help="override a case key in every case (as in drape.run)")
-    p.add_argument("--workers", type=int, metavar="N", help="local Dask worker processes")
-    p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler")
-    p.add_argument("--resume", action="store_true", help="continue a stopped validation in OUT")
-    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    add_batch_options(p, resume="continue a stopped validation in OUT")
     args = p.parse_args(argv)
     out = Path(args.out)
     try:
