@@ -18,6 +18,7 @@ from drape.newmark import StepControl
 from drape.output import OutputSchedule, OutputWriter, flat_fields
 from drape.probes import DisplacementProbe
 from drape.profile import RunProfile
+from drape.termination import sigterm_deferred
 from drape.settling import Settling
 
 __all__ = ["Recorder", "progress_bar"]
@@ -48,7 +49,8 @@ class Recorder:
     def __call__(self, state, info=None) -> bool:
         t0 = time.perf_counter()
         try:
-            return self._record(state, info)
+            with sigterm_deferred():
+                return self._record(state, info)
         finally:
             self.profile.output_s += time.perf_counter() - t0
 

@@ -12,7 +12,7 @@ import sys
 import threading
 from contextlib import contextmanager
 
-__all__ = ["Terminated", "EXIT_TERMINATED", "sigterm_raises", "stopped"]
+__all__ = ["Terminated", "EXIT_TERMINATED", "sigterm_raises", "sigterm_deferred", "stopped"]
 
 #: Exit code of a run or sweep stopped by SIGTERM (128 + signal number, as a shell reports it).
 EXIT_TERMINATED = 128 + int(signal.SIGTERM)
@@ -22,8 +22,32 @@ class Terminated(KeyboardInterrupt):
     """SIGTERM received (raised in the main thread, like Ctrl-C's KeyboardInterrupt)."""
 
 
+#: Depth of :func:`sigterm_deferred` blocks, and whether a SIGTERM arrived inside one.
+_DEFERRED = {"depth": 0, "pending": False}
+
+
 def _raise(signum, frame):
+    if _DEFERRED["depth"]:
+        _DEFERRED["pending"] = True
+        return
     raise Terminated()
+
+
+@contextmanager
+def sigterm_deferred():
+    """Within the block a SIGTERM waits; :class:`Terminated` is raised when the block ends.
+
+    A converged step is then recorded whole (history row, VTU, checkpoint) or not at all, so
+    the checkpoint a resumed run starts from is the step ``summary.json`` reports last.
+    """
+    _DEFERRED["depth"] += 1
+    try:
+        yield
+    finally:
+        _DEFERRED["depth"] -= 1
+    if not _DEFERRED["depth"] and _DEFERRED["pending"]:
+        _DEFERRED["pending"] = False
+        raise Terminated()
 
 
 @contextmanager
