@@ -4,11 +4,11 @@ Integrates ``cases/cusick_fabric1.toml`` to ``--start`` once, then the window up
 once per variant, from the same state, and prints steps, Newton iterations, force evaluations,
 factorisations, failed attempts and wall time. A variant is a comma-separated list of
 ``key=value`` for :func:`drape.newmark.integrate` (``predictor``, ``error_tolerance``) or
-:class:`drape.newton.NewtonPolicy` (``reuse_factorization``, ``contraction``,
-``simplified_steps``)::
+:class:`drape.newton.NewtonPolicy` (``lambda_min``, ``jump_ratio``, ``kink_steps``,
+``kink_growth``)::
 
     python benchmarks/bench_newton.py --start 0.1 --end 0.2 \\
-        "predictor='auto'" "predictor='velocity'" "reuse_factorization=True" \\
+        "predictor='auto'" "predictor='velocity'" "kink_steps=0" \\
         "error_tolerance=1e-2"
 
 Counts are deterministic; wall times only mean something on an otherwise idle machine.
@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-POLICY_KEYS = ("reuse_factorization", "contraction", "simplified_steps")
+POLICY_KEYS = ("lambda_min", "jump_ratio", "kink_steps", "kink_growth")
 
 
 def parse_variant(text: str) -> dict:

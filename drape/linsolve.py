@@ -287,7 +287,6 @@ class DirectSolver:
         self.symmetric = bool(symmetric)
         self._impl = None
         self._pattern = self._input = self._triu = None
-        self._ready = False
         self.analyses = self.factorizations = self.solves = 0
         self.seconds = {"analysis": 0.0, "factorization": 0.0, "solve": 0.0}
 
@@ -312,9 +311,7 @@ class DirectSolver:
             self._pattern = (A.indptr, A.indices)
             self.analyses += 1
         t1 = time.perf_counter()
-        self._ready = False
         self._impl.factorize(A)
-        self._ready = True
         self.factorizations += 1
         t2 = time.perf_counter()
         self.seconds["analysis"] += t1 - t0
@@ -324,11 +321,6 @@ class DirectSolver:
         if self.backend == "auto":
             self.backend = "pardiso" if n >= PARDISO_MIN_ORDER and pardiso_available() else "superlu"
         return _Pardiso(self.symmetric) if self.backend == "pardiso" else _SuperLU(self.symmetric)
-
-    @property
-    def size(self) -> int:
-        """Order of the standing factorisation (0 before the first)."""
-        return len(self._pattern[0]) - 1 if self._ready else 0
 
     def solve(self, b) -> np.ndarray:
         """``A⁻¹ b`` with the last factorisation; LinearSolverError if the result is not finite."""

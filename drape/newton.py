@@ -29,11 +29,6 @@ error-oriented NLEQ-ERR damping):
   of the first residual and the problem's force scale); the correction test is
   waived when ``‖R‖`` is 100× below its tolerance (a linear problem converges in
   one solve), and a correction below the round-off of ``x`` ends the iteration.
-- With ``policy.reuse_factorization`` the iteration starts with simplified Newton
-  steps on the solver's standing factorisation (an earlier step's tangent), kept
-  while they contract by ``policy.contraction`` per step (Deuflhard's simplified
-  Newton method, §2.1.4): in time stepping the tangent changes little from step
-  to step, and a force evaluation costs a fraction of a tangent and a factorisation.
 - If the first tangent of ``policy.tangents`` fails, Newton restarts from
   ``x0`` with the next (e.g. the friction law's *stick* tangent, which is
   positive and constant in the step: slower, but it cannot point uphill).
@@ -116,18 +111,6 @@ class NewtonPolicy:
         Steps at ``lambda_min`` allowed per attempt when no damping reduces the error.
     kink_growth : float
         Largest growth of ``‖R‖`` such a step may cause.
-    reuse_factorization : bool
-        Start from the solver's last factorisation (of an earlier step) when it has the
-        problem's size: simplified Newton steps ``Δx = −J_old⁻¹ R(x)`` cost a force
-        evaluation and a back-substitution instead of a tangent and a factorisation.
-        They continue while each correction is at most ``contraction`` × the last one;
-        then Newton takes a fresh tangent where it stands. Off by default: on the Cusick
-        drape and the cantilever it saved no factorisations (BENCHMARKS.md).
-    contraction : float
-        Largest contraction ratio accepted from a reused factorisation, in (0, 1).
-    simplified_steps : int
-        Simplified steps the last ratio may still need to converge; beyond that a fresh
-        tangent is cheaper.
     """
 
     tangents: tuple = ("consistent",)
@@ -135,9 +118,6 @@ class NewtonPolicy:
     jump_ratio: float = 100.0
     kink_steps: int = 3
     kink_growth: float = 10.0
-    reuse_factorization: bool = False
-    contraction: float = 0.25
-    simplified_steps: int = 4
 
     def __post_init__(self):
         if not self.tangents or not all(isinstance(t, str) for t in self.tangents):
@@ -146,8 +126,6 @@ class NewtonPolicy:
             raise ValueError(f"lambda_min must lie in (0, 1], got {self.lambda_min!r}")
         if not self.jump_ratio >= 1 or not self.kink_growth >= 1 or int(self.kink_steps) < 0:
             raise ValueError("jump_ratio and kink_growth must be >= 1 and kink_steps >= 0")
-        if not 0 < self.contraction < 1:
-            raise ValueError(f"contraction must lie in (0, 1), got {self.contraction!r}")
 
 
 @dataclass
@@ -212,51 +190,9 @@ class _Attempt:
                       f"tolerance {r_tol:.3e}, increment norms {_norms(res.increment_norms)}")
         return res
 
-    def _simplified(self, x):
-        """Simplified Newton steps with the solver's standing factorisation while they contract.
-
-        Returns ``(x, converged)``: where they stopped (the start if the first did not contract).
-        """
-        res, theta = self.result, self.policy.contraction
-        R, r = self._residual(x)
-        self.ref = max(self.ref, r)
-        res.residual_norms.append(r)
-        if not np.isfinite(r):
-            return x, False
-        dx = self.solver.solve(-R)
-        dx_norm = float(np.linalg.norm(dx))
-        if self._converged(x, r, dx_norm):
-            return x, True
-        while res.iterations < self.tol.max_iter:
-            x_try = x + dx
-            R_try, r_try = self._residual(x_try)
-            if not np.isfinite(r_try):
-                break
-            dxbar = self.solver.solve(-R_try)
-            bar = float(np.linalg.norm(dxbar))
-            if not bar <= theta * dx_norm:
-                break
-            ratio = bar / dx_norm
-            x, dx, dx_norm = x_try, dxbar, bar
-            res.iterations += 1
-            res.residual_norms.append(r_try)
-            res.increment_norms.append(bar)
-            if self._converged(x, r_try, bar):
-                return x, True
-            # linear convergence at this ratio would need more steps than a fresh tangent costs
-            _, du_tol = self._tolerances(x)
-            if ratio > 0 and np.log(max(du_tol, 1e-300) / bar) / np.log(ratio) > self.policy.simplified_steps:
-                break
-        return x, False
-
-    def run(self, x0, reuse: bool = False) -> NewtonResult:
+    def run(self, x0) -> NewtonResult:
         res, pol = self.result, self.policy
         x = np.array(x0, dtype=float)
-        if reuse:
-            x, done = self._simplified(x)
-            if done:
-                res.x, res.converged = x, True
-                return res
         R, r = self._linearize(x)
         self.ref = max(self.ref, r)
         res.residual_norms.append(r)
@@ -342,11 +278,10 @@ def newton(problem: NonlinearProblem, x0, tolerances: NewtonTolerances | None = 
     solver = DirectSolver() if solver is None else solver
     reasons, totals = [], np.zeros(3, dtype=int)
     result = None
-    n = np.size(x0)
-    for k, tangent in enumerate(policy.tangents):
+    for tangent in policy.tangents:
         attempt = _Attempt(problem, tolerances, policy, solver, tangent)
         try:
-            result = attempt.run(x0, reuse=k == 0 and policy.reuse_factorization and solver.size == n)
+            result = attempt.run(x0)
         except LinearSolverError as exc:
             result = attempt._fail(np.array(x0, dtype=float), f"linear solver failed ({exc})")
         totals += (result.iterations, result.evaluations, result.factorizations)
