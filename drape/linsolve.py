@@ -48,6 +48,10 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from numba import prange
+
+from drape.shell_kernels import njit
+
 __all__ = ["LinearSolverError", "FreeRestriction", "DirectSolver", "pardiso_available", "blas_threads"]
 
 BACKENDS = ("auto", "pardiso", "superlu")
@@ -74,11 +78,17 @@ class LinearSolverError(RuntimeError):
     """The linear solver failed (singular matrix, solver error code); Newton treats the step as failed."""
 
 
+def _same_memory(x, y) -> bool:
+    """The same array in memory (scipy's CSR constructor keeps views, not the objects given)."""
+    return x is y or (x.dtype == y.dtype and x.shape == y.shape and x.strides == y.strides
+                      and x.ctypes.data == y.ctypes.data)
+
+
 def _same_pattern(A, pattern) -> bool:
     if pattern is None:
         return False
     indptr, indices = pattern
-    return (A.indptr is indptr and A.indices is indices) or (
+    return (_same_memory(A.indptr, indptr) and _same_memory(A.indices, indices)) or (
         A.indptr.shape == indptr.shape and A.indices.shape == indices.shape
         and np.array_equal(A.indptr, indptr) and np.array_equal(A.indices, indices))
 
@@ -120,6 +130,27 @@ class FreeRestriction:
             self._build(J)
         return sp.csr_matrix((J.data[self._map], self._indices, self._indptr), shape=self._shape)
 
+    def combine(self, terms) -> sp.csr_matrix:
+        """Restriction of ``Σ cᵢ Aᵢ`` for ``terms = [(cᵢ, Aᵢ), ...]`` (CSR; None or ``cᵢ = 0``
+        skipped); when the Aᵢ share one pattern only the kept entries are summed.
+
+        >>> import numpy as np, scipy.sparse as sp
+        >>> A = sp.csr_matrix(np.arange(1.0, 10.0).reshape(3, 3))
+        >>> FreeRestriction(np.array([0, 2])).combine([(1.0, A), (2.0, A)]).toarray()
+        array([[ 3.,  9.],
+               [21., 27.]])
+        """
+        terms = [(float(c), A if sp.isspmatrix_csr(A) else sp.csr_matrix(A))
+                 for c, A in terms if A is not None and c != 0.0]
+        A0 = terms[0][1]
+        if not all(_same_pattern(A, (A0.indptr, A0.indices)) for _, A in terms[1:]):
+            return self(sum((c * A for c, A in terms[1:]), terms[0][0] * A0))
+        if not _same_pattern(A0, self._pattern):
+            self._build(A0)
+        data = np.empty(self._map.size)
+        _gather_sum(self._map, np.array([c for c, _ in terms]), tuple(A.data for _, A in terms), data)
+        return sp.csr_matrix((data, self._indices, self._indptr), shape=self._shape)
+
     def _build(self, J):
         # restrict a matrix whose data are the positions (1-based) of J's entries
         probe = sp.csr_matrix((np.arange(1, J.nnz + 1, dtype=float), J.indices, J.indptr), shape=J.shape)
@@ -130,6 +161,17 @@ class FreeRestriction:
         self._map = sub.data.astype(np.int64) - 1
         self._indices, self._indptr, self._shape = sub.indices, sub.indptr, sub.shape
         self._pattern = (J.indptr, J.indices)
+
+
+@njit(cache=True, parallel=True)
+def _gather_sum(positions, coefficients, datas, out):
+    """``out[i] = Σ_k c_k datas[k][positions[i]]`` in one pass (the restriction of a sum)."""
+    for i in prange(positions.size):
+        j = positions[i]
+        acc = 0.0
+        for k in range(len(datas)):
+            acc += coefficients[k] * datas[k][j]
+        out[i] = acc
 
 
 def _mkl_pardiso():

@@ -57,7 +57,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
 
 from drape.linsolve import DirectSolver, FreeRestriction, LinearSolverError, blas_threads
 from drape.newton import NewtonPolicy, NewtonTolerances, newton
@@ -207,21 +206,6 @@ class _Constraints:
         return uh
 
 
-def _combine(terms):
-    """``Σ c_i A_i`` of CSR matrices; adds the data arrays when they share one pattern."""
-    (c0, A0), rest = terms[0], [(c, A) for c, A in terms[1:] if c != 0.0 and A is not None]
-    if all(A.nnz == A0.nnz and (A.indices is A0.indices or np.array_equal(A.indices, A0.indices))
-           and (A.indptr is A0.indptr or np.array_equal(A.indptr, A0.indptr)) for _, A in rest):
-        data = c0 * A0.data
-        for c, A in rest:
-            data = data + c * A.data
-        return sp.csr_matrix((data, A0.indices, A0.indptr), shape=A0.shape)
-    out = c0 * A0
-    for c, A in rest:
-        out = out + c * A
-    return sp.csr_matrix(out)
-
-
 class _StepProblem:
     """One Newmark/HHT step as a :class:`drape.newton.NonlinearProblem` in the free ``u_h``."""
 
@@ -276,8 +260,8 @@ class _StepProblem:
     def linearize(self, x, tangent):
         ev, R, scale = self._evaluate(x, tangent)
         b, g, dt, al = self.beta, self.gamma, self.dt, self.alpha
-        J = _combine([(1.0 + al, ev.K), ((1.0 + al) * g / (b * dt), ev.C), (1.0 / (b * dt * dt), ev.M)])
-        return R[self.free], self.restrict(self.free, J), scale
+        terms = [(1.0 + al, ev.K), ((1.0 + al) * g / (b * dt), ev.C), (1.0 / (b * dt * dt), ev.M)]
+        return R[self.free], self.restrict(self.free, terms), scale
 
     def norm_reference(self, x):
         u, _, _ = self._fields(x)
@@ -302,10 +286,12 @@ class _Restrictions:
         self._cache = {}
 
     def __call__(self, free, J):
+        """``J`` restricted to ``free``; ``J`` a matrix or a list ``[(c, A), ...]`` meaning ``Σ c A``."""
         key = (free.size, hash(free.tobytes()))
         if key not in self._cache:
             self._cache = {key: FreeRestriction(free, upper=self.upper)}
-        return self._cache[key](J)
+        restriction = self._cache[key]
+        return restriction.combine(J) if isinstance(J, list) else restriction(J)
 
 
 def initial_state(model, u0=None, v0=None, t0: float = 0.0) -> NewmarkState:

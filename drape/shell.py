@@ -429,12 +429,10 @@ class KirchhoffLoveShell:
             Kd = Cd = Md = None
         else:
             visc = self._viscosity()
-            has_visc = bool(np.any(visc != 0))
             ve = ue * 0.0 if v is None else self._element_values(v)
             ae = ue * 0.0 if a is None else self._element_values(a)
             Kd, Cd, Md = self._tangent(ue, ve, ae, Nm, M, D, visc, fe)
-            if not has_visc:
-                Cd = Md = None
+            Cd, Md = (d if d.size else None for d in (Cd, Md))
         fint = self.pattern.vector(fe)
         self.seconds["law"] += t2 - t1
         self.seconds["assembly"] += time.perf_counter() - t2 + t1 - t0
@@ -443,7 +441,8 @@ class KirchhoffLoveShell:
     def _tangent(self, ue, ve, ae, Nm, M, D, visc, fe):
         """Run the tangent kernel: element forces into ``fe``, (Kd, Cd, Md) returned."""
         nnz = self.pattern.nnz
-        Kd, Cd, Md = np.zeros(nnz), np.zeros(nnz), np.zeros(nnz)
+        Kd = np.zeros(nnz)
+        Cd, Md = (np.zeros(nnz if np.any(row) else 0) for row in visc)
         Q = np.eye(self.w.shape[1]) if self.strain_projection is None else self.strain_projection
         order, start = self._colours
         kernels.use_threads(len(ue))
@@ -561,22 +560,35 @@ class KirchhoffLoveShell:
         self._t_last = t
         u, v, a = (np.asarray(x, dtype=float) for x in (u, v, a))
         fe, Kl = self._edge_terms(u, t)
-        alpha, beta = self.rayleigh
         lam = self.load_scale
         f_ext = lam * (self._dead_surface_force(t) + fe)
+        C0 = self._rayleigh_damping()
         if tangent is None:
             fint, f_inertia = self._internal_forces(u, v, a)
-            inertia = self._M @ a + f_inertia
-            force = alpha * (self._M @ v) + beta * (self._K0 @ v) + fint - f_ext
-            return Evaluation(inertia, force)
+            return Evaluation(self._M @ a + f_inertia, C0 @ v + fint - f_ext)
         fint, Kd, Cd, Md = self._internal(u, v, a, friction_tangent=tangent)
-        Cd = alpha * self._M.data + beta * self._K0.data + (0.0 if Cd is None else Cd)
-        Md = self._M.data + (0.0 if Md is None else Md)
+        # without the law's terms C and M are the constant ones (shared, never written to)
+        if Cd is None:
+            Cd = C0.data
+        else:
+            Cd += C0.data
+        if Md is None:
+            Md = self._M.data
+        else:
+            Md += self._M.data
         if Kl is not None:
-            Kd = Kd + lam * Kl
+            Kd += lam * Kl
         # one CSR pattern for K, C and M: the integrator adds their data directly
         K, C, M = (self.pattern.from_data(d) for d in (Kd, Cd, Md))
         return Evaluation(M @ a, C @ v + fint - f_ext, K, C, M)
+
+    def _rayleigh_damping(self):
+        """``α M + β K0`` on the shell's pattern, built once per pair ``(α, β)``."""
+        if getattr(self, "_C0_key", None) != self.rayleigh:
+            alpha, beta = self.rayleigh
+            self._C0 = self.pattern.from_data(alpha * self._M.data + beta * self._K0.data)
+            self._C0_key = self.rayleigh
+        return self._C0
 
     def residual(self, u, v, a, t):
         """``R = M a + C v + f_int(u) − f_ext(u, t)`` and ``(K, C, M)`` (:meth:`evaluate` with
@@ -642,8 +654,7 @@ class KirchhoffLoveShell:
              + self.weft_state.friction_work(kappa[..., 1])) * self.w))
         if v is not None:
             v = np.asarray(v, dtype=float)
-            alpha, beta = self.rayleigh
-            C = alpha * self._M + beta * self._K0
+            C = self._rayleigh_damping()
             Md = self._viscous_moments(u, v)
             if self._v_committed is not None:
                 du = u - self._u_committed

@@ -335,7 +335,8 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
     csr_map : (E, 3 nb, 3 nb) int
         Position of every element-matrix entry in the CSR data.
     fe : (E, 3 nb) output element internal forces.
-    Kd, Cd, Md : (nnz,) outputs, zeroed by the caller
+    Kd, Cd, Md : (nnz,) outputs, zeroed by the caller (Cd, Md untouched, and may be
+        empty, when ``visc`` has no viscosity or no curvature inertia)
         ``∂f/∂u`` (material + geometric + the configuration dependence of
         ``d κ̇ + m κ̈``), the law's viscous ``d ∫ ∂κᵀ∂κ`` and inertia ``m ∫ ∂κᵀ∂κ``.
     """
@@ -361,8 +362,8 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
             # Σ_q Σ_s φ_qs[b] W_q[s, k, c, l] as one matrix product over (q, s)
             Phi = np.empty((nb, 5 * nq))
             Wall = np.zeros((5 * nq, 3, nb, 3))
-            WCall = np.zeros((5 * nq, 3, nb, 3))
-            WMall = np.zeros((5 * nq, 3, nb, 3))
+            WCall = np.zeros((5 * nq if has_c else 0, 3, nb, 3))
+            WMall = np.zeros((5 * nq if has_m else 0, 3, nb, 3))
             Z = np.empty((5, 5, 3, 3))
             ZC = np.empty((5, 5, 3, 3))
             ZM = np.empty((5, 5, 3, 3))
