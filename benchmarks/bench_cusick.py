@@ -265,6 +265,9 @@ def main(argv=None):
     print(f"{len(todo)} runs, {args.jobs} at a time, {os.cpu_count()} cpus", flush=True)
     t0 = time.perf_counter()
     if args.jobs > 1:
+        from drape.sweep import SINGLE_THREADED
+
+        os.environ.update(SINGLE_THREADED)   # one core per run: kernels and PARDISO don't fight
         with ThreadPoolExecutor(args.jobs) as pool:
             records = list(pool.map(_run, todo))
     else:
