@@ -223,8 +223,18 @@ def test_direct_solver_on_a_shell_tangent_and_an_indefinite_matrix(backend):
     b = np.random.default_rng(1).standard_normal(free.size)
     ref = spla.spsolve(sp.csc_matrix(J[free][:, free]), b)
     solver = DirectSolver(symmetric=True, backend=backend)
-    solver.factorize(FreeRestriction(free, upper=True)(J))
+    restrict = FreeRestriction(free, upper=True)
+    solver.factorize(restrict(J))
     np.testing.assert_allclose(solver.solve(b), ref, rtol=1e-8, atol=1e-10 * np.abs(ref).max())
+    # the step's sum restricted in one pass: the same entries as restricting the sum
+    combined = restrict.combine([(1.0, ev.K), (200.0, ev.C), (3.3e4, ev.M)])
+    expected = sp.triu(J[free][:, free], format="csr")
+    assert abs(combined - expected).max() <= 1e-12 * abs(expected).max()
+    # a term on another pattern falls back to the sparse sum
+    diag = sp.identity(shell.ndofs, format="csr")
+    mixed = restrict.combine([(1.0, ev.K), (5.0, diag)])
+    expected = sp.triu((ev.K + 5.0 * diag)[free][:, free], format="csr")
+    assert abs(mixed - expected).max() <= 1e-12 * abs(expected).max()
     P = sp.csr_matrix(np.array([[0.0, 2.0, 0.0], [2.0, 0.0, 1.0], [0.0, 1.0, 3.0]]))
     for symmetric in (True, False):
         solver = DirectSolver(symmetric=symmetric, backend=backend)
