@@ -299,6 +299,7 @@ class KirchhoffLoveShell:
         self._t_last = 0.0
         self.seconds = {"law": 0.0, "assembly": 0.0}
         self._K0 = self.linear_stiffness()
+        self._C0, self._C0_key = None, None   # αM + βK0, built on first use
         self._friction_work = self._damping_work = 0.0
         self._u_committed, self._v_committed = zero.copy(), zero.copy()   # at rest
         self._kappa_committed = np.zeros(self.w.shape + (3,))
@@ -584,7 +585,7 @@ class KirchhoffLoveShell:
 
     def _rayleigh_damping(self):
         """``α M + β K0`` on the shell's pattern, built once per pair ``(α, β)``."""
-        if getattr(self, "_C0_key", None) != self.rayleigh:
+        if self._C0_key != self.rayleigh:
             alpha, beta = self.rayleigh
             self._C0 = self.pattern.from_data(alpha * self._M.data + beta * self._K0.data)
             self._C0_key = self.rayleigh
