@@ -50,7 +50,7 @@ import scipy.sparse.linalg as spla
 
 from numba import prange
 
-from drape.shell_kernels import njit
+from drape.compiled import njit
 
 __all__ = ["LinearSolverError", "FreeRestriction", "DirectSolver", "pardiso_available", "blas_threads"]
 

@@ -285,13 +285,12 @@ class _Restrictions:
         self.upper = solver.symmetric
         self._cache = {}
 
-    def __call__(self, free, J):
-        """``J`` restricted to ``free``; ``J`` a matrix or a list ``[(c, A), ...]`` meaning ``Σ c A``."""
+    def __call__(self, free, terms):
+        """``Σ c A`` of ``terms = [(c, A), ...]`` restricted to ``free``."""
         key = (free.size, hash(free.tobytes()))
         if key not in self._cache:
             self._cache = {key: FreeRestriction(free, upper=self.upper)}
-        restriction = self._cache[key]
-        return restriction.combine(J) if isinstance(J, list) else restriction(J)
+        return self._cache[key].combine(terms)
 
 
 def initial_state(model, u0=None, v0=None, t0: float = 0.0) -> NewmarkState:
@@ -563,7 +562,7 @@ class _StaticProblem:
 
     def linearize(self, x, tangent):
         ev = self.model.evaluate(self.u(x), self.zero, self.zero, self.t, tangent)
-        return ev.force[self.free], self.restrict(self.free, ev.K), max(float(np.linalg.norm(ev.force)),
+        return ev.force[self.free], self.restrict(self.free, [(1.0, ev.K)]), max(float(np.linalg.norm(ev.force)),
                                                                       self.scale)
 
     def norm_reference(self, x):

@@ -433,17 +433,18 @@ class KirchhoffLoveShell:
             ve = ue * 0.0 if v is None else self._element_values(v)
             ae = ue * 0.0 if a is None else self._element_values(a)
             Kd, Cd, Md = self._tangent(ue, ve, ae, Nm, M, D, visc, fe)
-            Cd, Md = (d if d.size else None for d in (Cd, Md))
         fint = self.pattern.vector(fe)
         self.seconds["law"] += t2 - t1
         self.seconds["assembly"] += time.perf_counter() - t2 + t1 - t0
         return fint, Kd, Cd, Md
 
     def _tangent(self, ue, ve, ae, Nm, M, D, visc, fe):
-        """Run the tangent kernel: element forces into ``fe``, (Kd, Cd, Md) returned."""
+        """Run the tangent kernel: element forces into ``fe``, (Kd, Cd, Md) returned; Cd (Md)
+        is None when the laws have no viscosity (curvature inertia)."""
         nnz = self.pattern.nnz
-        Kd = np.zeros(nnz)
-        Cd, Md = (np.zeros(nnz if np.any(row) else 0) for row in visc)
+        has_c, has_m = (bool(np.any(row)) for row in visc)
+        # the kernel leaves Cd/Md alone without their terms: no arrays to allocate for it
+        Kd, Cd, Md = np.zeros(nnz), np.zeros(nnz if has_c else 0), np.zeros(nnz if has_m else 0)
         Q = np.eye(self.w.shape[1]) if self.strain_projection is None else self.strain_projection
         order, start = self._colours
         kernels.use_threads(len(ue))
@@ -451,7 +452,7 @@ class KirchhoffLoveShell:
                         np.ascontiguousarray(self.C_m, dtype=float), np.ascontiguousarray(Nm),
                         np.ascontiguousarray(M), np.ascontiguousarray(D), visc, order, start,
                         self._csr_map, fe, Kd, Cd, Md)
-        return Kd, Cd, Md
+        return Kd, Cd if has_c else None, Md if has_m else None
 
     def _kinematics(self, ue):
         """Membrane strain and curvature (Voigt), (E, q, 3) each, of element coefficients."""

@@ -23,9 +23,7 @@ The bending laws stay outside: the kernels take the moments ``M``, their tangent
 ``D`` and the membrane forces at the quadrature points, which the caller evaluates
 from :func:`kinematics`'s strain and curvature.
 
-Numba caches the compiled kernels on disk (``__pycache__`` next to this file, else the
-user's cache directory, or ``NUMBA_CACHE_DIR`` when set), so a fresh install compiles them
-once; with no writable directory they are compiled once per process. The kernels run on
+The kernels are compiled once per install and cached on disk (:mod:`drape.compiled`). They run on
 ``NUMBA_NUM_THREADS`` threads (default: every core) on meshes of at least
 :data:`PARALLEL_MIN_ELEMENTS` elements, on one below; set it to 1 where each core
 already runs its own process.
@@ -36,8 +34,9 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 import numba
-from numba import njit as _numba_njit
 from numba import prange
+
+from drape.compiled import njit
 
 __all__ = ["element_colours", "kinematics", "curvature_rate", "internal_force", "tangent"]
 
@@ -50,18 +49,6 @@ PARALLEL_MIN_ELEMENTS = 256
 def use_threads(n_elements: int) -> None:
     """Let the next kernel calls of this thread use every numba thread, or one for a small mesh."""
     numba.set_num_threads(numba.config.NUMBA_NUM_THREADS if n_elements >= PARALLEL_MIN_ELEMENTS else 1)
-
-
-def njit(*args, **options):
-    """``numba.njit`` with an on-disk cache where numba finds a writable cache directory
-    and without one (compiled once per process) where it finds none."""
-    def decorate(function):
-        try:
-            return _numba_njit(**options)(function)
-        except RuntimeError:          # "cannot cache function ...: no locator available"
-            options.pop("cache", None)
-            return _numba_njit(**options)(function)
-    return decorate(args[0]) if args else decorate
 
 
 def element_colours(element_dofs):
