@@ -135,7 +135,8 @@ def build_model(case: Case, mesh, material):
                               gravity=loads.get("gravity", 0.0), rayleigh=rayleigh,
                               membrane_strain_degree=spec.membrane_strain_degree,
                               membrane_stabilization=spec.membrane_stabilization,
-                              friction_tangent=spec.friction_tangent, **kwargs)
+                              friction_tangent=spec.friction_tangent,
+                              viscous_tangent=spec.viscous_tangent, **kwargs)
 
 
 def fold_perturbation(case: Case):

@@ -81,6 +81,11 @@ PREDICTORS = ("auto", "acceleration", "velocity", "displacement")
 #: ``u₁ = u₀`` starts far closer (residual 200-fold smaller in the Cusick drape; constant
 #: velocity, in between, failed more often than either: BENCHMARKS.md).
 AUTO_ORDER = ("acceleration", "displacement")
+#: "auto" falls back to the other start only if its residual is at most this many times the
+#: first's: one farther from balance than the start that failed does not converge either
+#: (the Cusick drapes of BENCHMARKS.md: no step was saved by such a start, and each try cost a
+#: full Newton run per tangent).
+FALLBACK_RATIO = 100.0
 
 
 class ConvergenceError(RuntimeError):
@@ -215,6 +220,7 @@ class _StepProblem:
         self.t1 = state.t + dt
         c0, self.c1 = _Constraints(model, state.t), _Constraints(model, self.t1)
         self.uh0, self.vh0, self.ah0 = (x - l for x, l in zip((state.u, state.v, state.a), c0.lift))
+        self.u0_norm = float(np.linalg.norm(state.u))
         self.free = self.c1.free
         self.restrict = restrict
         self.scale = float(model.force_scale(self.t1))
@@ -264,8 +270,9 @@ class _StepProblem:
         return R[self.free], self.restrict(self.free, terms), scale
 
     def norm_reference(self, x):
+        # the step's round-off comes from u₀ and Δt v₀ as much as from u (which may pass zero)
         u, _, _ = self._fields(x)
-        return float(np.linalg.norm(u))
+        return max(float(np.linalg.norm(u)), self.u0_norm)
 
     def state(self, x) -> NewmarkState:
         u, v, a = self._fields(x)
@@ -386,6 +393,8 @@ def _solve_step(problem: _StepProblem, predictor, tol, policy, solver):
             size[name] = float(np.linalg.norm(problem.residual(problem.start(name))[0]))
             info.evaluations += 1
         order = sorted(size, key=lambda name: (not np.isfinite(size[name]), size[name]))
+        limit = FALLBACK_RATIO * size[order[0]]
+        order = [name for name in order if not size[name] > limit]
     else:
         order = [predictor]
     reasons = []

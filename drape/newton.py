@@ -29,6 +29,12 @@ error-oriented NLEQ-ERR damping):
   of the first residual and the problem's force scale); the correction test is
   waived when ``‖R‖`` is 100× below its tolerance (a linear problem converges in
   one solve), and a correction below the round-off of ``x`` ends the iteration.
+- An attempt that takes ``stall_iterations`` full steps (or three times as many
+  steps of any kind) without halving its residual norm (below the best since
+  the first step, which may overshoot) is given up: it cycles, typically with
+  friction points switching between stick and slip, and a shorter step (the
+  caller's remedy) is cheaper than more iterations. Damped steps count less:
+  they descend, if slowly.
 - If the first tangent of ``policy.tangents`` fails, Newton restarts from
   ``x0`` with the next (e.g. the friction law's *stick* tangent, which is
   positive and constant in the step: slower, but it cannot point uphill).
@@ -111,6 +117,10 @@ class NewtonPolicy:
         Steps at ``lambda_min`` allowed per attempt when no damping reduces the error.
     kink_growth : float
         Largest growth of ``‖R‖`` such a step may cause.
+    stall_iterations : int
+        An attempt ends after this many full (undamped) steps, or three times as many
+        steps of any kind, without halving ``‖R‖`` (the first step's residual
+        excluded); 0: never (only ``max_iter`` ends it).
     """
 
     tangents: tuple = ("consistent",)
@@ -118,6 +128,7 @@ class NewtonPolicy:
     jump_ratio: float = 100.0
     kink_steps: int = 3
     kink_growth: float = 10.0
+    stall_iterations: int = 8
 
     def __post_init__(self):
         if not self.tangents or not all(isinstance(t, str) for t in self.tangents):
@@ -126,6 +137,8 @@ class NewtonPolicy:
             raise ValueError(f"lambda_min must lie in (0, 1], got {self.lambda_min!r}")
         if not self.jump_ratio >= 1 or not self.kink_growth >= 1 or int(self.kink_steps) < 0:
             raise ValueError("jump_ratio and kink_growth must be >= 1 and kink_steps >= 0")
+        if int(self.stall_iterations) < 0:
+            raise ValueError(f"stall_iterations must be >= 0, got {self.stall_iterations!r}")
 
 
 @dataclass
@@ -204,6 +217,7 @@ class _Attempt:
             res.x, res.converged = x, True
             return res
         first, lam, kinks = dx_norm, 1.0, 0
+        best, stalled, slow = np.inf, 0, 0
         while res.iterations < self.tol.max_iter:
             step = self._damped_step(x, dx, dx_norm, r, first, lam)
             if step is None:
@@ -220,6 +234,13 @@ class _Attempt:
             if self._converged(x, r, float(np.linalg.norm(dx_next))):
                 res.x, res.converged = x, True
                 return res
+            if r < 0.5 * best:
+                best, stalled, slow = r, 0, 0
+            else:  # full steps that do not halve it cycle; damped ones descend, if slowly
+                stalled, slow = stalled + (lam_used == 1.0), slow + 1
+            if pol.stall_iterations and (stalled >= pol.stall_iterations or slow >= 3 * pol.stall_iterations):
+                return self._fail(x, f"the residual did not halve in {slow} iterations "
+                                     f"({stalled} of them undamped)")
             if not fresh:  # the simplified correction served the test; now a new tangent
                 R, r = self._linearize(x)
                 dx_next = self.solver.solve(-R)

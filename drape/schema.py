@@ -308,10 +308,19 @@ class ModelSpec(_Section):
     law softens (the moment falls with curvature after a reversal, e.g. Fabric 2's weft as
     printed: −51 k1), which otherwise sends Newton off. The solution is unchanged."""
 
+    viscous_tangent: Literal["symmetric", "full"] = "symmetric"
+    """Large kinematics, laws with viscosity d (or curvature inertia m): Newton's tangent of
+    ``d κ̇ + m κ̈``. ``symmetric`` keeps the symmetric part of K (the rate terms' configuration
+    dependence is the only unsymmetric one), so the symmetric LDLᵀ factorisation serves;
+    ``full``: the exact, unsymmetric tangent. The solution is unchanged."""
+
     @model_validator(mode="after")
     def _membrane_needs_large(self):
         if self.membrane_stabilization and self.membrane_strain_degree is None:
             raise _rule("@.membrane_stabilization needs @.membrane_strain_degree")
+        if self.viscous_tangent != "symmetric" and self.kinematics != "large":
+            raise _rule("@.viscous_tangent is only used with @.kinematics = 'large' "
+                        "(the small-deflection plate's tangent is symmetric)")
         for key in ("membrane", "membrane_strain_degree"):
             if getattr(self, key) is not None and self.kinematics != "large":
                 raise _rule(

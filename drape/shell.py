@@ -62,6 +62,9 @@ from drape.kinematics import KLPoint, assumed_strain_operator, basis_arrays
 from drape.loads import as_function
 from drape.model import Evaluation
 
+#: Newton tangents of the rate terms d κ̇ + m κ̈: the symmetric part of K, or the exact one.
+VISCOUS_TANGENTS = ("symmetric", "full")
+
 #: Private attributes :meth:`KirchhoffLoveShell.commit` keeps besides the laws' states.
 _SHELL_STATE = ("t_last", "friction_work", "damping_work", "u_committed", "v_committed",
                 "kappa_committed", "Md_committed")
@@ -225,6 +228,16 @@ class KirchhoffLoveShell:
         Newton's tangent of the friction moment (:meth:`constitutive.law.BendingState.trial`):
         ``"nonnegative"`` floors it at zero where a law softens (Fabric 2's weft); the
         residual, hence the solution, is unchanged.
+    viscous_tangent : {"symmetric", "full"}
+        Newton's tangent of the rate terms ``d κ̇ + m κ̈``. Their dependence on the
+        configuration (the curvature rate rotates with the surface) makes ``K``
+        unsymmetric; ``"symmetric"`` keeps the symmetric part of each element's ``K``,
+        so a symmetric factorisation serves (LDLᵀ, about 2/3 of the LU time here); the
+        residual is exact, hence the solution is unchanged, and the dropped part is of
+        the order of the viscous moment against the elastic ones (Fabric 1's Cusick
+        drape: the same Newton iterations to 0.3 %, BENCHMARKS.md). ``"full"``: the
+        exact derivative (quadratic convergence), also used under a follower end
+        moment, whose tangent is unsymmetric anyway.
     """
 
     def __init__(self, mesh, material, *, clamped: Sequence[str] = ("clamped",),
@@ -232,12 +245,16 @@ class KirchhoffLoveShell:
                  edge_load: Optional[Callable] = None, end_moment=None,
                  surface_load=None, load_boundary: str = "free", rayleigh=(0.0, 0.0), intorder: int = 6,
                  g: float = G0, membrane_strain_degree=None,
-                 membrane_stabilization: float = 0.0, friction_tangent: str = "consistent"):
+                 membrane_stabilization: float = 0.0, friction_tangent: str = "consistent",
+                 viscous_tangent: str = "symmetric"):
         self.mesh = mesh
         try:
             self.friction_tangent = check_friction_tangent(friction_tangent)
         except ValueError as exc:
             raise ShellInputError(str(exc)) from None
+        if viscous_tangent not in VISCOUS_TANGENTS:
+            raise ShellInputError(f"viscous_tangent must be one of {VISCOUS_TANGENTS}, got {viscous_tangent!r}")
+        self.viscous_tangent = viscous_tangent
         names = [clamped] if isinstance(clamped, str) else list(clamped)
         bnd = mesh.boundaries or {}
         for name in names:
@@ -451,7 +468,7 @@ class KirchhoffLoveShell:
         kernels.tangent(ue, ve, ae, self.dN, self.HN, self.w, np.ascontiguousarray(Q),
                         np.ascontiguousarray(self.C_m, dtype=float), np.ascontiguousarray(Nm),
                         np.ascontiguousarray(M), np.ascontiguousarray(D), visc, order, start,
-                        self._csr_map, fe, Kd, Cd, Md)
+                        self._csr_map, fe, Kd, Cd, Md, bool(visc.any()) and self._symmetrize_rates())
         return Kd, Cd if has_c else None, Md if has_m else None
 
     def _kinematics(self, ue):
@@ -534,8 +551,16 @@ class KirchhoffLoveShell:
     @property
     def symmetric_tangent(self) -> bool:
         """Symmetric tangents unless the law's viscosity or curvature inertia (their
-        configuration dependence) or a follower end moment enter ``K``."""
-        return not np.any(self._viscosity()) and (self.edge is None or self.end_moment is None)
+        configuration dependence, with ``viscous_tangent = "full"``) or a follower end
+        moment enter ``K``."""
+        if self.edge is not None and self.end_moment is not None:
+            return False
+        return not np.any(self._viscosity()) or self._symmetrize_rates()
+
+    def _symmetrize_rates(self) -> bool:
+        """Keep the symmetric part of the rate terms' K: asked for, and it makes K symmetric
+        (a follower end moment keeps it unsymmetric, and then the exact tangent is free)."""
+        return self.viscous_tangent == "symmetric" and (self.edge is None or self.end_moment is None)
 
     def lifting(self, t):
         """No imposed motion: None."""

@@ -303,7 +303,7 @@ def _outer_add(scale, x, y, Z):
 
 @njit(cache=True, parallel=True)
 def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map,
-            fe, Kd, Cd, Md):
+            fe, Kd, Cd, Md, symmetrize=False):
     """Element internal force and the tangents, scattered into CSR data.
 
     Parameters
@@ -322,6 +322,9 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
     csr_map : (E, 3 nb, 3 nb) int
         Position of every element-matrix entry in the CSR data.
     fe : (E, 3 nb) output element internal forces.
+    symmetrize : bool
+        Scatter the symmetric part ``(K + Kᵀ)/2`` of each element's ``∂f/∂u`` (only the
+        rate terms are unsymmetric).
     Kd, Cd, Md : (nnz,) outputs, zeroed by the caller (Cd, Md untouched, and may be
         empty, when ``visc`` has no viscosity or no curvature inertia)
         ``∂f/∂u`` (material + geometric + the configuration dependence of
@@ -346,6 +349,8 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
                         de[q, 0, b, k] = dN[e, q, b, 0] * a[q, 0, k]
                         de[q, 1, b, k] = dN[e, q, b, 1] * a[q, 1, k]
                         de[q, 2, b, k] = dN[e, q, b, 0] * a[q, 1, k] + dN[e, q, b, 1] * a[q, 0, k]
+            # the assumed strain Σ_r Q_qr ∂ε_r at every point, as one matrix product
+            Qde = np.dot(Q, de.reshape(nq, 9 * nb)).reshape(nq, 3, nb, 3)
             # Σ_q Σ_s φ_qs[b] W_q[s, k, c, l] as one matrix product over (q, s)
             Phi = np.empty((nb, 5 * nq))
             Wall = np.zeros((5 * nq, 3, nb, 3))
@@ -395,18 +400,14 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
                         fe[e, 3 * b + k] += wq * acc
                 # ---- membrane material part: w_p ∂ε_pᵀ C_m Σ_q Q_pq ∂ε_q, as rows s = α
                 CQde[:] = 0.0
-                for r in range(nq):
-                    Qr = wq * Q[q, r]
-                    if Qr == 0.0:
-                        continue
-                    for v in range(3):
-                        for x in range(3):
-                            cvx = Qr * C_m[v, x]
-                            if cvx == 0.0:
-                                continue
-                            for b in range(nb):
-                                for k in range(3):
-                                    CQde[v, b, k] += cvx * de[r, x, b, k]
+                for v in range(3):
+                    for x in range(3):
+                        cvx = wq * C_m[v, x]
+                        if cvx == 0.0:
+                            continue
+                        for b in range(nb):
+                            for k in range(3):
+                                CQde[v, b, k] += cvx * Qde[q, x, b, k]
                 for v in range(3):
                     for s in range(2):
                         for k in range(3):
@@ -508,6 +509,8 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
                 Cf = np.dot(Phi, WCall.reshape(5 * nq, 9 * nb)).reshape(3 * nb, 3 * nb)
             if has_m:
                 Mf = np.dot(Phi, WMall.reshape(5 * nq, 9 * nb)).reshape(3 * nb, 3 * nb)
+            if symmetrize:
+                Kf = 0.5 * (Kf + Kf.T)
             for I in range(3 * nb):
                 for J in range(3 * nb):
                     pos = csr_map[e, I, J]

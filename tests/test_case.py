@@ -82,6 +82,10 @@ def test_good_case_validates_with_defaults():
         (["model.kinematics='large'", "mesh.element='argyris'", "model.membrane_stabilization=0.1"],
          "model.membrane_stabilization needs model.membrane_strain_degree"),
         (["model.membrane_stabilization=2"], "model.membrane_stabilization = 2: must be <= 1"),
+        (["model.viscous_tangent='full'"],
+         "model.viscous_tangent is only used with model.kinematics = 'large' (the small-deflection "
+         "plate's tangent is symmetric)"),
+        (["model.viscous_tangent='exact'"], "model.viscous_tangent = 'exact'"),
     ],
 )
 def test_each_mistake_gives_exactly_one_clear_error(overrides, expected):

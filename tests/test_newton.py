@@ -97,7 +97,25 @@ def test_bad_tolerances_name_themselves(kwargs, match):
 
 @pytest.mark.parametrize("kwargs, match", [
     (dict(tangents=()), "tangents"), (dict(lambda_min=0.0), "lambda_min"),
+    (dict(stall_iterations=-1), "stall_iterations"),
 ])
 def test_bad_policy_names_itself(kwargs, match):
     with pytest.raises(ValueError, match=match):
         NewtonPolicy(**kwargs)
+
+
+def test_an_attempt_that_stalls_on_full_steps_gives_up():
+    """R = x with a tangent 0.52 (the slope of a kink's other side, as at a friction point that
+    switches): every full step is accepted (‖R‖ and the simplified correction fall), yet ‖R‖
+    shrinks by only 0.923 per step. The attempt ends after ``stall_iterations`` = 8 full steps
+    that do not halve ‖R‖ (9 iterations) with a reason that says so; without the rule it
+    runs to max_iter."""
+    problem = Problem(lambda x: x.copy(), lambda x: np.diag(0.52 * np.ones_like(x)))
+    tol = NewtonTolerances(rtol=1e-10, du_rtol=1e-10)
+    res = newton(problem, np.array([1.0]), tol)
+    assert not res.converged and res.iterations == 9
+    assert "did not halve in 8 iterations (8 of them undamped)" in res.reason
+    r = np.array(res.residual_norms)
+    np.testing.assert_allclose(r[1:] / r[:-1], 1 / 0.52 - 1, rtol=1e-12)   # every step full
+    res = newton(problem, np.array([1.0]), tol, NewtonPolicy(stall_iterations=0))
+    assert not res.converged and res.iterations == tol.max_iter and "max_iter" in res.reason

@@ -70,7 +70,7 @@ def _large_rotation_state(shell, seed=0, angle=1.3, scale=0.05):
 def viscous_shell(request):
     kw = {} if request.param is None else dict(membrane_strain_degree=request.param[0],
                                                membrane_stabilization=request.param[1])
-    return KirchhoffLoveShell(_strip(), _Viscous(), gravity=0.0, **kw)
+    return KirchhoffLoveShell(_strip(), _Viscous(), gravity=0.0, viscous_tangent="full", **kw)
 
 
 def test_element_colours_share_no_dof():
@@ -131,6 +131,32 @@ def test_tangent_is_derivative_of_force(viscous_shell):
         1e-10 * np.linalg.norm(P.from_data(Cd) @ dv)
     assert np.linalg.norm(P.from_data(Md) @ dv - (force(u, v, a + dv) - force(u))) <= \
         1e-10 * np.linalg.norm(P.from_data(Md) @ dv)
+
+
+def test_symmetric_viscous_tangent_is_the_symmetric_part(viscous_shell):
+    """``viscous_tangent = "symmetric"``: K is (K + Kᵀ)/2 of the exact tangent (1e-13), the
+    force, C_law and M_law are unchanged, and the shell says its tangent is symmetric."""
+    full = viscous_shell
+    kw = {}
+    if full.strain_projection is not None:
+        kw = dict(membrane_strain_degree=1, membrane_stabilization=0.05)
+    sym = KirchhoffLoveShell(_strip(), _Viscous(), gravity=0.0, **kw)
+    assert sym.viscous_tangent == "symmetric" and sym.symmetric_tangent and not full.symmetric_tangent
+    u, rng = _large_rotation_state(full, seed=4)
+    v, a = rng.standard_normal(full.ndofs), rng.standard_normal(full.ndofs)
+    f, Kd, Cd, Md = full._internal(u, v, a)
+    f_s, Kd_s, Cd_s, Md_s = sym._internal(u, v, a)
+    K = full.pattern.from_data(Kd)
+    K_s = sym.pattern.from_data(Kd_s)
+    assert abs(K_s - 0.5 * (K + K.T)).max() <= 1e-13 * abs(K).max()
+    assert abs(K_s - K).max() > 1e-6 * abs(K).max()
+    for new, ref in ((f_s, f), (Cd_s, Cd), (Md_s, Md)):
+        assert np.array_equal(new, ref)
+
+
+def test_viscous_tangent_choice_is_checked():
+    with pytest.raises(ShellInputError, match="viscous_tangent"):
+        KirchhoffLoveShell(_strip(), _Viscous(), gravity=0.0, viscous_tangent="exact")
 
 
 def test_elastic_tangent_is_symmetric(viscous_shell):

@@ -126,7 +126,8 @@ def test_first_variations_match_finite_differences(shell):
 def assumed_strain_shell():
     return KirchhoffLoveShell(_strip(), _Material(), gravity=lambda t: 0.7 * t,
                               edge_load=lambda t: np.array([0.1, 0.2, 0.3]),
-                              membrane_strain_degree=1, membrane_stabilization=0.05)
+                              membrane_strain_degree=1, membrane_stabilization=0.05,
+                              viscous_tangent="full")
 
 
 @pytest.mark.parametrize("model", ["shell", "assumed_strain_shell"])
