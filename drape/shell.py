@@ -232,12 +232,12 @@ class KirchhoffLoveShell:
         Newton's tangent of the rate terms ``d κ̇ + m κ̈``. Their dependence on the
         configuration (the curvature rate rotates with the surface) makes ``K``
         unsymmetric; ``"symmetric"`` keeps the symmetric part of each element's ``K``,
-        so a symmetric factorisation serves (LDLᵀ, about 2/3 of the LU time here); the
-        residual is exact, hence the solution is unchanged, and the dropped part is of
-        the order of the viscous moment against the elastic ones (Fabric 1's Cusick
-        drape: the same Newton iterations to 0.3 %, BENCHMARKS.md). ``"full"``: the
-        exact derivative (quadratic convergence), also used under a follower end
-        moment, whose tangent is unsymmetric anyway.
+        so a symmetric factorisation serves (LDLᵀ: Fabric 1's Cusick drape spends half
+        the time in linear solves); the residual is exact, hence the solution is
+        unchanged, and the dropped part is of the order of the viscous moments against
+        the elastic ones (that drape: 498 Newton iterations against 497,
+        BENCHMARKS.md). ``"full"``: the exact derivative (quadratic convergence), also
+        used under a follower end moment, whose tangent is unsymmetric anyway.
     """
 
     def __init__(self, mesh, material, *, clamped: Sequence[str] = ("clamped",),
@@ -253,7 +253,8 @@ class KirchhoffLoveShell:
         except ValueError as exc:
             raise ShellInputError(str(exc)) from None
         if viscous_tangent not in VISCOUS_TANGENTS:
-            raise ShellInputError(f"viscous_tangent must be one of {VISCOUS_TANGENTS}, got {viscous_tangent!r}")
+            raise ShellInputError(f"viscous_tangent must be one of {VISCOUS_TANGENTS}, "
+                                  f"got {viscous_tangent!r}")
         self.viscous_tangent = viscous_tangent
         names = [clamped] if isinstance(clamped, str) else list(clamped)
         bnd = mesh.boundaries or {}
@@ -553,14 +554,15 @@ class KirchhoffLoveShell:
         """Symmetric tangents unless the law's viscosity or curvature inertia (their
         configuration dependence, with ``viscous_tangent = "full"``) or a follower end
         moment enter ``K``."""
-        if self.edge is not None and self.end_moment is not None:
-            return False
-        return not np.any(self._viscosity()) or self._symmetrize_rates()
+        return not self._follower_moment() and (not np.any(self._viscosity()) or self._symmetrize_rates())
+
+    def _follower_moment(self) -> bool:
+        return self.edge is not None and self.end_moment is not None
 
     def _symmetrize_rates(self) -> bool:
         """Keep the symmetric part of the rate terms' K: asked for, and it makes K symmetric
         (a follower end moment keeps it unsymmetric, and then the exact tangent is free)."""
-        return self.viscous_tangent == "symmetric" and (self.edge is None or self.end_moment is None)
+        return self.viscous_tangent == "symmetric" and not self._follower_moment()
 
     def lifting(self, t):
         """No imposed motion: None."""

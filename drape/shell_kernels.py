@@ -12,7 +12,9 @@ with a (5, 3) coefficient ``c`` (e.g. ``∂κ_v/∂u_bk = N_b,v n_k + N_b,1 (a2 
 ``Σ_st φ_s[b] φ_t[c] Z_st[k, l]``. A point's whole contribution to the 63 × 63 element
 tangent is therefore a (5, 5, 3, 3) block ``Z`` contracted twice with ``φ``: once per
 point, then over all points of a triangle in one matrix product, a fraction of the cost of
-dense rank updates of the per-dof variations.
+dense rank updates of the per-dof variations. The laws' viscous and curvature-inertia
+matrices ``∫ ∂κᵀ d ∂κ`` are of rank 2 per point, and are formed as ``G W Gᵀ`` from the
+per-dof curvature variations ``G`` directly.
 
 The kernels run in parallel over the triangles of one colour of a colouring in which no
 two triangles of a colour share a dof, so each triangle scatters its tangent into the
@@ -330,7 +332,7 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
         ``∂f/∂u`` (material + geometric + the configuration dependence of
         ``d κ̇ + m κ̈``), the law's viscous ``d ∫ ∂κᵀ∂κ`` and inertia ``m ∫ ∂κᵀ∂κ``.
     """
-    E, nq, nb = dN.shape[0], dN.shape[1], dN.shape[2]
+    nq, nb = dN.shape[1], dN.shape[2]
     has_c = visc[0, 0] != 0.0 or visc[0, 1] != 0.0
     has_m = visc[1, 0] != 0.0 or visc[1, 1] != 0.0
     for colour in range(len(start) - 1):
@@ -354,11 +356,13 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
             # Σ_q Σ_s φ_qs[b] W_q[s, k, c, l] as one matrix product over (q, s)
             Phi = np.empty((nb, 5 * nq))
             Wall = np.zeros((5 * nq, 3, nb, 3))
-            WCall = np.zeros((5 * nq if has_c else 0, 3, nb, 3))
-            WMall = np.zeros((5 * nq if has_m else 0, 3, nb, 3))
+            # C_law = G W Gᵀ (M_law alike): the columns of G the variations ∂κ_v (v = warp,
+            # weft) at every point, W = diag(w d_v); a product of rank 2 nq
+            nr = 2 * nq if has_c or has_m else 0
+            G = np.empty((nb, 3, nr))
+            GC = np.empty((nb, 3, nr if has_c else 0))
+            GM = np.empty((nb, 3, nr if has_m else 0))
             Z = np.empty((5, 5, 3, 3))
-            ZC = np.empty((5, 5, 3, 3))
-            ZM = np.empty((5, 5, 3, 3))
             p = np.empty((3, 3))
             cde = np.empty((3, 5, 3))
             cdk = np.empty((3, 5, 3))
@@ -492,23 +496,25 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
                             Z[0, 2 + v, l, k] += x0
                             Z[1, 2 + v, l, k] += x1
                 _half(Z, phi, Wrow)
-                if has_c:
-                    ZC[:] = 0.0
+                if nr:
                     for v in range(2):
-                        _outer_add(wq * visc[0, v], cdk[v], cdk[v], ZC)
-                    _half(ZC, phi, WCall[5 * q:5 * q + 5])
-                if has_m:
-                    ZM[:] = 0.0
-                    for v in range(2):
-                        _outer_add(wq * visc[1, v], cdk[v], cdk[v], ZM)
-                    _half(ZM, phi, WMall[5 * q:5 * q + 5])
+                        for b in range(nb):
+                            for k in range(3):
+                                acc = 0.0
+                                for t_ in range(5):
+                                    acc += phi[t_, b] * cdk[v, t_, k]
+                                G[b, k, 2 * q + v] = acc
+                                if has_c:
+                                    GC[b, k, 2 * q + v] = wq * visc[0, v] * acc
+                                if has_m:
+                                    GM[b, k, 2 * q + v] = wq * visc[1, v] * acc
             Kf = np.dot(Phi, Wall.reshape(5 * nq, 9 * nb)).reshape(3 * nb, 3 * nb)
             Cf = Kf
             Mf = Kf
             if has_c:
-                Cf = np.dot(Phi, WCall.reshape(5 * nq, 9 * nb)).reshape(3 * nb, 3 * nb)
+                Cf = np.dot(G.reshape(3 * nb, nr), GC.reshape(3 * nb, nr).T)
             if has_m:
-                Mf = np.dot(Phi, WMall.reshape(5 * nq, 9 * nb)).reshape(3 * nb, 3 * nb)
+                Mf = np.dot(G.reshape(3 * nb, nr), GM.reshape(3 * nb, nr).T)
             if symmetrize:
                 Kf = 0.5 * (Kf + Kf.T)
             for I in range(3 * nb):

@@ -215,7 +215,8 @@ def test_auto_predictor_falls_back_only_to_a_start_near_balance():
         state = NewmarkState(0.0, np.array([u]), np.array([v]), np.array([a]))
         with pytest.raises(ConvergenceError) as err:
             newmark_step(model, state, dt, max_iter=1, rtol=1e-14, du_rtol=1e-14)
-        tried[label] = [name for name in ("acceleration", "displacement") if f"{name} predictor" in str(err.value)]
+        tried[label] = [name for name in ("acceleration", "displacement")
+                        if f"{name} predictor" in str(err.value)]
     assert FALLBACK_RATIO == 100.0
     assert tried == {"swing": ["acceleration"], "release": ["acceleration", "displacement"]}
 

@@ -9,7 +9,6 @@ from skfem.quadrature import get_quadrature
 from skfem.refdom import RefTri
 
 from constitutive.law import BendingLaw
-from drape.kinematics import covariant_basis
 from drape.shell import ElasticMaterial, KirchhoffLoveShell, ShellInputError
 from drape.shell_kernels import element_colours
 
