@@ -238,7 +238,8 @@ class _Attempt:
                 best, stalled, slow = r, 0, 0
             else:  # full steps that do not halve it cycle; damped ones descend, if slowly
                 stalled, slow = stalled + (lam_used == 1.0), slow + 1
-            if pol.stall_iterations and (stalled >= pol.stall_iterations or slow >= 3 * pol.stall_iterations):
+            limit = pol.stall_iterations
+            if limit and (stalled >= limit or slow >= 3 * limit):
                 return self._fail(x, f"the residual did not halve in {slow} iterations "
                                      f"({stalled} of them undamped)")
             if not fresh:  # the simplified correction served the test; now a new tangent

@@ -318,11 +318,10 @@ class ModelSpec(_Section):
     def _membrane_needs_large(self):
         if self.membrane_stabilization and self.membrane_strain_degree is None:
             raise _rule("@.membrane_stabilization needs @.membrane_strain_degree")
-        if self.viscous_tangent != "symmetric" and self.kinematics != "large":
-            raise _rule("@.viscous_tangent is only used with @.kinematics = 'large' "
-                        "(the small-deflection plate's tangent is symmetric)")
-        for key in ("membrane", "membrane_strain_degree"):
-            if getattr(self, key) is not None and self.kinematics != "large":
+        # options of the large-rotation shell, against their defaults
+        for key, default in (("membrane", None), ("membrane_strain_degree", None),
+                             ("viscous_tangent", "symmetric")):
+            if getattr(self, key) != default and self.kinematics != "large":
                 raise _rule(
                     f"@.{key} is only used with @.kinematics = 'large' (got '{self.kinematics}')"
                 )

@@ -469,7 +469,7 @@ class KirchhoffLoveShell:
         kernels.tangent(ue, ve, ae, self.dN, self.HN, self.w, np.ascontiguousarray(Q),
                         np.ascontiguousarray(self.C_m, dtype=float), np.ascontiguousarray(Nm),
                         np.ascontiguousarray(M), np.ascontiguousarray(D), visc, order, start,
-                        self._csr_map, fe, Kd, Cd, Md, bool(visc.any()) and self._symmetrize_rates())
+                        self._csr_map, fe, Kd, Cd, Md, (has_c or has_m) and self._symmetrize_rates())
         return Kd, Cd if has_c else None, Md if has_m else None
 
     def _kinematics(self, ue):

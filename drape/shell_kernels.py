@@ -183,6 +183,17 @@ def _phi(dN, HN, phi):
         phi[4, b] = HN[b, 2]
 
 
+@njit(cache=True)
+def _add_per_dof(scale, phi, c, out):
+    """``out[b, k] += scale Σ_s φ_s[b] c_s[k]``: a (5, 3) coefficient as per-dof values."""
+    for b in range(phi.shape[1]):
+        for k in range(3):
+            acc = 0.0
+            for s in range(5):
+                acc += phi[s, b] * c[s, k]
+            out[b, k] += scale * acc
+
+
 @njit(cache=True, parallel=True)
 def internal_force(ue, dN, HN, w, Nm, M, fe):
     """Element internal forces ``∫ ∂εᵀ N + ∂κᵀ M``, (E, 3 nb) into ``fe``.
@@ -209,12 +220,7 @@ def internal_force(ue, dN, HN, w, Nm, M, fe):
                 for s in range(5):
                     for k in range(3):
                         F[s, k] += Nm[e, q, v] * cde[v, s, k] + M[e, q, v] * cdk[v, s, k]
-            for b in range(nb):
-                for k in range(3):
-                    acc = 0.0
-                    for s in range(5):
-                        acc += phi[s, b] * F[s, k]
-                    fe[e, 3 * b + k] += w[e, q] * acc
+            _add_per_dof(w[e, q], phi, F, fe[e].reshape(nb, 3))
 
 
 @njit(cache=True)
@@ -396,12 +402,7 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
                     for s in range(5):
                         for k in range(3):
                             F[s, k] += Nm[e, q, v] * cde[v, s, k] + M[e, q, v] * cdk[v, s, k]
-                for b in range(nb):
-                    for k in range(3):
-                        acc = 0.0
-                        for s in range(5):
-                            acc += phi[s, b] * F[s, k]
-                        fe[e, 3 * b + k] += wq * acc
+                _add_per_dof(wq, phi, F, fe[e].reshape(nb, 3))
                 # ---- membrane material part: w_p ∂ε_pᵀ C_m Σ_q Q_pq ∂ε_q, as rows s = α
                 CQde[:] = 0.0
                 for v in range(3):
@@ -496,18 +497,14 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
                             Z[0, 2 + v, l, k] += x0
                             Z[1, 2 + v, l, k] += x1
                 _half(Z, phi, Wrow)
-                if nr:
-                    for v in range(2):
-                        for b in range(nb):
-                            for k in range(3):
-                                acc = 0.0
-                                for t_ in range(5):
-                                    acc += phi[t_, b] * cdk[v, t_, k]
-                                G[b, k, 2 * q + v] = acc
-                                if has_c:
-                                    GC[b, k, 2 * q + v] = wq * visc[0, v] * acc
-                                if has_m:
-                                    GM[b, k, 2 * q + v] = wq * visc[1, v] * acc
+                for v in range(2 if nr else 0):
+                    col = 2 * q + v
+                    G[:, :, col] = 0.0
+                    _add_per_dof(1.0, phi, cdk[v], G[:, :, col])
+                    if has_c:
+                        GC[:, :, col] = wq * visc[0, v] * G[:, :, col]
+                    if has_m:
+                        GM[:, :, col] = wq * visc[1, v] * G[:, :, col]
             Kf = np.dot(Phi, Wall.reshape(5 * nq, 9 * nb)).reshape(3 * nb, 3 * nb)
             Cf = Kf
             Mf = Kf
@@ -516,7 +513,9 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
             if has_m:
                 Mf = np.dot(G.reshape(3 * nb, nr), GM.reshape(3 * nb, nr).T)
             if symmetrize:
-                Kf = 0.5 * (Kf + Kf.T)
+                for I in range(3 * nb):
+                    for J in range(I + 1, 3 * nb):
+                        Kf[I, J] = Kf[J, I] = 0.5 * (Kf[I, J] + Kf[J, I])
             for I in range(3 * nb):
                 for J in range(3 * nb):
                     pos = csr_map[e, I, J]

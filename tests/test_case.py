@@ -83,8 +83,7 @@ def test_good_case_validates_with_defaults():
          "model.membrane_stabilization needs model.membrane_strain_degree"),
         (["model.membrane_stabilization=2"], "model.membrane_stabilization = 2: must be <= 1"),
         (["model.viscous_tangent='full'"],
-         "model.viscous_tangent is only used with model.kinematics = 'large' (the small-deflection "
-         "plate's tangent is symmetric)"),
+         "model.viscous_tangent is only used with model.kinematics = 'large' (got 'small')"),
         (["model.viscous_tangent='exact'"], "model.viscous_tangent = 'exact'"),
     ],
 )
