@@ -362,12 +362,12 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
             # Σ_q Σ_s φ_qs[b] W_q[s, k, c, l] as one matrix product over (q, s)
             Phi = np.empty((nb, 5 * nq))
             Wall = np.zeros((5 * nq, 3, nb, 3))
-            # C_law = G W Gᵀ (M_law alike): the columns of G the variations ∂κ_v (v = warp,
+            # C_law = Gᵀ W G (M_law alike): the rows of G the variations ∂κ_v (v = warp,
             # weft) at every point, W = diag(w d_v); a product of rank 2 nq
             nr = 2 * nq if has_c or has_m else 0
-            G = np.empty((nb, 3, nr))
-            GC = np.empty((nb, 3, nr if has_c else 0))
-            GM = np.empty((nb, 3, nr if has_m else 0))
+            G = np.empty((nr, nb, 3))
+            GC = np.empty((nr if has_c else 0, nb, 3))
+            GM = np.empty((nr if has_m else 0, nb, 3))
             Z = np.empty((5, 5, 3, 3))
             p = np.empty((3, 3))
             cde = np.empty((3, 5, 3))
@@ -499,19 +499,19 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
                 _half(Z, phi, Wrow)
                 for v in range(2 if nr else 0):
                     col = 2 * q + v
-                    G[:, :, col] = 0.0
-                    _add_per_dof(1.0, phi, cdk[v], G[:, :, col])
+                    G[col] = 0.0
+                    _add_per_dof(1.0, phi, cdk[v], G[col])
                     if has_c:
-                        GC[:, :, col] = wq * visc[0, v] * G[:, :, col]
+                        GC[col] = wq * visc[0, v] * G[col]
                     if has_m:
-                        GM[:, :, col] = wq * visc[1, v] * G[:, :, col]
+                        GM[col] = wq * visc[1, v] * G[col]
             Kf = np.dot(Phi, Wall.reshape(5 * nq, 9 * nb)).reshape(3 * nb, 3 * nb)
             Cf = Kf
             Mf = Kf
             if has_c:
-                Cf = np.dot(G.reshape(3 * nb, nr), GC.reshape(3 * nb, nr).T)
+                Cf = np.dot(G.reshape(nr, 3 * nb).T, GC.reshape(nr, 3 * nb))
             if has_m:
-                Mf = np.dot(G.reshape(3 * nb, nr), GM.reshape(3 * nb, nr).T)
+                Mf = np.dot(G.reshape(nr, 3 * nb).T, GM.reshape(nr, 3 * nb))
             if symmetrize:
                 for I in range(3 * nb):
                     for J in range(I + 1, 3 * nb):
