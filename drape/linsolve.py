@@ -13,10 +13,11 @@ Two back ends:
 
 - ``"pardiso"``: Intel MKL PARDISO (through the ``mkl_rt`` library that
   ``pypardiso`` ships), multithreaded, with its analysis phase kept across
-  factorisations. A symmetric tangent (no viscosity ``d``, no follower load) is
-  factorised as *real symmetric indefinite* (``mtype = −2``, Bunch–Kaufman
-  pivoting: the tangent is indefinite past a buckling point) from its upper
-  triangle, a nonsymmetric one as *real nonsymmetric* (``mtype = 11``).
+  factorisations. A symmetric tangent is factorised from its upper triangle by
+  Cholesky (``mtype = 2``) while it is positive definite, as a stable state's is,
+  and as *real symmetric indefinite* (``mtype = −2``, Bunch–Kaufman pivoting) where
+  it is not, past a buckling point; a nonsymmetric one as *real nonsymmetric*
+  (``mtype = 11``).
 - ``"superlu"``: SciPy's SuperLU with a minimum-degree ordering of ``A + Aᵀ``
   and no pivoting (finite-element tangents are structurally symmetric), falling
   back to partial pivoting when that fails; available everywhere.
@@ -209,18 +210,20 @@ def pardiso_available() -> bool:
 
 
 class _Pardiso:
-    """MKL PARDISO with phases called separately: 11 (analysis) per pattern, 22, 33."""
+    """MKL PARDISO of one matrix type with phases called separately: 11 (analysis) per
+    pattern, 22, 33. ``mtype``: 2 real symmetric positive definite, −2 real symmetric
+    indefinite, 11 real nonsymmetric."""
 
-    def __init__(self, symmetric: bool):
+    def __init__(self, mtype: int):
         if not pardiso_available():
             raise LinearSolverError("MKL PARDISO is not available (install pypardiso on x86-64)")
-        self.mtype = -2 if symmetric else 11
+        self.mtype = int(mtype)
         self.pt = np.zeros(64, dtype=np.int64)
         self.iparm = np.zeros(64, dtype=np.int32)
         # 0-based iparm indices (MKL manual): user values; METIS ordering; default
         # iterative refinement; pivot perturbation 1e-8 (sym) / 1e-13 (unsym);
         # scaling and weighted matching; Bunch-Kaufman pivoting; zero-based indexing
-        for k, value in {0: 1, 1: 2, 7: 0, 9: 8 if symmetric else 13, 10: 1, 12: 1, 20: 1, 34: 1}.items():
+        for k, value in {0: 1, 1: 2, 7: 0, 9: 13 if mtype == 11 else 8, 10: 1, 12: 1, 20: 1, 34: 1}.items():
             self.iparm[k] = value
         self._A = None
         self._analysed = False
@@ -241,7 +244,9 @@ class _Pardiso:
                  self.iparm.ctypes.data_as(c_int), ctypes.byref(ctypes.c_int32(0)),
                  b.ctypes.data_as(c_double), x.ctypes.data_as(c_double), ctypes.byref(error))
         if error.value != 0:
-            raise LinearSolverError(f"PARDISO phase {phase} failed with error {error.value}")
+            exc = LinearSolverError(f"PARDISO phase {phase} failed with error {error.value}")
+            exc.code = error.value
+            raise exc
 
     def analyse(self, A):
         self.release()
@@ -269,6 +274,63 @@ class _Pardiso:
             self.release()
         except Exception:  # noqa: BLE001 - interpreter shutdown
             pass
+
+
+class _PardisoSymmetric:
+    """Cholesky (PARDISO ``mtype = 2``) while the matrices are positive definite, Bunch–Kaufman
+    LDLᵀ (``mtype = −2``) for those that are not.
+
+    A stable state's tangent is positive definite, and Cholesky needs no pivoting: it is
+    about a fifth faster to factorise and a third faster to solve. Where the fabric passes
+    a buckling point, the Cholesky factorisation stops at the first non-positive pivot
+    (PARDISO error −4); that matrix and the next :attr:`RETRY_AFTER` are factorised as
+    indefinite, whose analysis is done once per pattern too.
+    """
+
+    #: Factorisations that go straight to LDLᵀ after a matrix that was not positive definite.
+    RETRY_AFTER = 8
+
+    def __init__(self):
+        self.cholesky, self.ldlt = _Pardiso(2), _Pardiso(-2)
+        self._ldlt_pattern = None
+        self._cholesky_pattern = False
+        self._active = None
+        self._skip = 0
+        self.indefinite = 0     # matrices factorised by LDLᵀ
+
+    def analyse(self, A):
+        self._ldlt_pattern = None
+        try:
+            self.cholesky.analyse(A)
+            self._cholesky_pattern = True
+        except LinearSolverError:   # e.g. a diagonal entry missing from the pattern
+            self._cholesky_pattern = False
+
+    def factorize(self, A):
+        if self._skip:
+            self._skip -= 1
+        elif self._cholesky_pattern:
+            try:
+                self.cholesky.factorize(A)
+                self._active = self.cholesky
+                return
+            except LinearSolverError as exc:
+                if getattr(exc, "code", None) != -4:   # -4: a zero or negative pivot
+                    raise
+                self._skip = self.RETRY_AFTER
+        if self._ldlt_pattern is None:
+            self.ldlt.analyse(A)
+            self._ldlt_pattern = True
+        self.ldlt.factorize(A)
+        self._active = self.ldlt
+        self.indefinite += 1
+
+    def solve(self, b):
+        return self._active.solve(b)
+
+    def release(self):
+        self.cholesky.release()
+        self.ldlt.release()
 
 
 class _SuperLU:
@@ -362,7 +424,9 @@ class DirectSolver:
     def _backend(self, n: int):
         if self.backend == "auto":
             self.backend = "pardiso" if n >= PARDISO_MIN_ORDER and pardiso_available() else "superlu"
-        return _Pardiso(self.symmetric) if self.backend == "pardiso" else _SuperLU(self.symmetric)
+        if self.backend == "superlu":
+            return _SuperLU(self.symmetric)
+        return _PardisoSymmetric() if self.symmetric else _Pardiso(11)
 
     def solve(self, b) -> np.ndarray:
         """``A⁻¹ b`` with the last factorisation; LinearSolverError if the result is not finite."""

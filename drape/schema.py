@@ -311,7 +311,7 @@ class ModelSpec(_Section):
     viscous_tangent: Literal["symmetric", "full"] = "symmetric"
     """Large kinematics, laws with viscosity d (or curvature inertia m): Newton's tangent of
     ``d κ̇ + m κ̈``. ``symmetric`` keeps the symmetric part of K (the rate terms' configuration
-    dependence is the only unsymmetric one), so the symmetric LDLᵀ factorisation serves;
+    dependence is the only unsymmetric one), so a symmetric factorisation serves;
     ``full``: the exact, unsymmetric tangent. The solution is unchanged."""
 
     @model_validator(mode="after")

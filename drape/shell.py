@@ -232,7 +232,7 @@ class KirchhoffLoveShell:
         Newton's tangent of the rate terms ``d κ̇ + m κ̈``. Their dependence on the
         configuration (the curvature rate rotates with the surface) makes ``K``
         unsymmetric; ``"symmetric"`` keeps the symmetric part of each element's ``K``,
-        so a symmetric factorisation serves (LDLᵀ: Fabric 1's Cusick drape spends half
+        so a symmetric factorisation serves (Fabric 1's Cusick drape spends half
         the time in linear solves); the residual is exact, hence the solution is
         unchanged, and the dropped part is of the order of the viscous moments against
         the elastic ones (that drape: 498 Newton iterations against 497,
@@ -481,7 +481,7 @@ class KirchhoffLoveShell:
 
     def _membrane_force(self, eps):
         """Membrane forces ``C_m Q ε`` at the quadrature points, (E, q, 3)."""
-        return np.ascontiguousarray(np.einsum("vw,eqw->eqv", self.C_m, self._membrane_strain(eps)))
+        return np.ascontiguousarray(self._membrane_strain(eps) @ self.C_m.T)
 
     def linear_stiffness(self):
         """Tangent stiffness of the flat, unstressed state (membrane + elastic bending).
@@ -735,7 +735,7 @@ class KirchhoffLoveShell:
         ``membrane_strain_degree`` is set, else ``eps`` itself."""
         if self.strain_projection is None:
             return eps
-        return np.einsum("pq,eq...->ep...", self.strain_projection, eps)
+        return np.matmul(self.strain_projection, eps)   # (q, q) @ (e, q, 3), a BLAS call per triangle
 
     def qp_state(self, u):
         """Membrane strain and curvature (Voigt) at all quadrature points, (e, q, 3) each."""

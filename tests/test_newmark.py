@@ -291,6 +291,32 @@ def test_direct_solver_on_a_shell_tangent_and_an_indefinite_matrix(backend):
         np.testing.assert_allclose(solver.solve(P @ np.ones(3)), np.ones(3), rtol=1e-12)
 
 
+@pytest.mark.skipif(not pardiso_available(), reason="MKL PARDISO not available")
+def test_pardiso_factorises_by_cholesky_until_a_matrix_is_indefinite():
+    """Positive definite matrices take Cholesky; an indefinite one (two negative eigenvalues)
+    makes Cholesky stop at a negative pivot and is factorised by LDLᵀ, as are the next
+    RETRY_AFTER; then Cholesky is tried again. Every solve matches SciPy's spsolve."""
+    import scipy.sparse.linalg as spla
+
+    n = 400
+    lap = sp.diags([-np.ones(n - 1), 2.5 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1], format="csr")
+    shift = np.zeros(n)
+    shift[[100, 300]] = -3.0
+    definite, indefinite = lap, (lap + sp.diags(shift)).tocsr()
+    solver = DirectSolver(symmetric=True, backend="pardiso")
+    impl_types = []
+    b = np.random.default_rng(0).standard_normal(n)
+    retry = None
+    for k, A in enumerate([definite, indefinite] + [definite] * 10):
+        solver.factorize(A)
+        impl = solver._impl
+        retry = impl.RETRY_AFTER
+        impl_types.append(impl._active.mtype)
+        np.testing.assert_allclose(solver.solve(b), spla.spsolve(A.tocsc(), b), rtol=1e-10)
+    assert impl_types == [2] + [-2] * (retry + 1) + [2] * (11 - retry - 1)
+    assert solver._impl.indefinite == retry + 1 and solver.analyses == 1
+
+
 # --------------------------------------------------------------------------- robustness
 def test_step_cutting_and_regrowth():
     """A model that cannot take steps longer than 0.013 s: dt = 0.05 is cut to 0.0125, then grows back."""
