@@ -148,9 +148,11 @@ def studies(which: list[str], extra: list[str]):
 
 
 def _speed_table(records):
-    """Solver figures per run: steps, iterations, evaluations, factorisations and the time split."""
+    """Solver figures per run: steps, iterations, evaluations, factorisations (of which by LDLᵀ,
+    where a step matrix was not positive definite), steps only a fallback start or tangent
+    converged, and the time split."""
     head = (f"{'run':18s} {'status':9s} {'wall s':>7s} {'sim/wall':>8s} {'steps':>5s} {'iter':>5s} {'evals':>5s} "
-            f"{'facts':>5s} {'assembly':>8s} {'law':>6s} {'linear':>7s} {'output':>7s} {'other':>6s}")
+            f"{'facts':>5s} {'LDLt':>5s} {'resc':>4s} {'assembly':>8s} {'law':>6s} {'linear':>7s} {'output':>7s} {'other':>6s}")
     lines = [head, "-" * len(head)]
     for r in records:
         p = r.get("profile") or {}
@@ -159,7 +161,9 @@ def _speed_table(records):
         lines.append(f"{r['label']:18s} {str(r.get('status')):9s} {r.get('run_wall_s') or r['wall_s']:7.1f} "
                      f"{r.get('simulated_per_wall') or float('nan'):8.3f} {r.get('steps') or 0:5d} "
                      f"{p.get('newton_iterations', 0):5d} {p.get('evaluations', 0):5d} "
-                     f"{p.get('factorizations', 0):5d} " + " ".join(cells))
+                     f"{p.get('factorizations', 0):5d} {p.get('ldlt_factorizations', 0):5d} "
+                     f"{p.get('rescued_steps', 0):4d} "
+                     + " ".join(cells))
     return "\n".join(lines)
 
 

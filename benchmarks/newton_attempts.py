@@ -47,7 +47,7 @@ def main(argv=None) -> int:
         t0 = time.perf_counter()
         result = newton(problem, x0, tolerances, policy, solver)
         calls.append((round(problem.t1, 9), problem.dt, result.converged, result.iterations,
-                      result.tangent, time.perf_counter() - t0))
+                      result.tangent, time.perf_counter() - t0, policy.tangents[0]))
         return result
 
     newmark.newton = timed  # the integrator looks the name up at each step
@@ -62,11 +62,12 @@ def main(argv=None) -> int:
     ok = [c for c in calls if c[2]]
     failed = [c for c in calls if not c[2]]
     rescued = sum(1 for v in steps.values() if len(v) > 1 and v[-1][2])
+    by_fallback_tangent = sum(1 for c in ok if c[4] != c[6])
     print(f"{case.case.name}: {summary['status']} ({summary['reason'][:80]})")
     print(f"wall {wall:.1f} s; converged Newton runs {len(ok)}: {sum(c[5] for c in ok):.1f} s, "
           f"{sum(c[3] for c in ok)} iterations; failed Newton runs {len(failed)}: "
           f"{sum(c[5] for c in failed):.1f} s, {sum(c[3] for c in failed)} iterations; "
-          f"steps rescued by the fallback start: {rescued}")
+          f"steps rescued by the fallback start: {rescued}; by a fallback tangent: {by_fallback_tangent}")
     for (t, dt), runs in steps.items():
         if any(not c[2] for c in runs):
             attempts = ", ".join(f"{'ok' if c[2] else 'failed'} {c[3]} it {c[5]:.1f} s" for c in runs)

@@ -292,14 +292,14 @@ class _PardisoSymmetric:
 
     def __init__(self):
         self.cholesky, self.ldlt = _Pardiso(2), _Pardiso(-2)
-        self._ldlt_pattern = None
+        self._ldlt_pattern = False
         self._cholesky_pattern = False
         self._active = None
         self._skip = 0
-        self.indefinite = 0     # matrices factorised by LDLᵀ
+        self.ldlt_count = 0
 
     def analyse(self, A):
-        self._ldlt_pattern = None
+        self._ldlt_pattern = False
         try:
             self.cholesky.analyse(A)
             self._cholesky_pattern = True
@@ -318,12 +318,12 @@ class _PardisoSymmetric:
                 if getattr(exc, "code", None) != -4:   # -4: a zero or negative pivot
                     raise
                 self._skip = self.RETRY_AFTER
-        if self._ldlt_pattern is None:
+        if not self._ldlt_pattern:
             self.ldlt.analyse(A)
             self._ldlt_pattern = True
         self.ldlt.factorize(A)
         self._active = self.ldlt
-        self.indefinite += 1
+        self.ldlt_count += 1
 
     def solve(self, b):
         return self._active.solve(b)
@@ -380,6 +380,9 @@ class DirectSolver:
     ----------
     analyses, factorizations, solves : int
         How often each phase ran.
+    ldlt_factorizations : int
+        Symmetric factorisations done by LDLᵀ (PARDISO): those of matrices on which Cholesky met
+        a non-positive pivot, and of the few after each (``_PardisoSymmetric.RETRY_AFTER``).
     seconds : dict
         Wall time spent in each phase.
     """
@@ -420,6 +423,11 @@ class DirectSolver:
         t2 = time.perf_counter()
         self.seconds["analysis"] += t1 - t0
         self.seconds["factorization"] += t2 - t1
+
+    @property
+    def ldlt_factorizations(self) -> int:
+        """Symmetric factorisations done by LDLᵀ (PARDISO only; 0 for SuperLU)."""
+        return int(getattr(self._impl, "ldlt_count", 0))
 
     def _backend(self, n: int):
         if self.backend == "auto":

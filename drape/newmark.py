@@ -130,7 +130,9 @@ class StepInfo:
     ``iterations``, ``evaluations`` (force evaluations, with or without tangent) and
     ``factorizations`` count every Newton attempt of the step, failed ones included;
     ``cuts`` is the number of failed attempts at shorter or retried sizes, ``rejected``
-    the number of sizes the error estimate refused; ``error`` the estimate of the step.
+    the number of sizes the error estimate refused; ``error`` the estimate of the step;
+    ``rescued`` is True when it converged only from the fallback start or with a fallback
+    tangent (:data:`AUTO_ORDER`, ``NewtonPolicy.tangents``).
     """
 
     t: float
@@ -146,6 +148,7 @@ class StepInfo:
     cuts: int = 0
     rejected: int = 0
     error: float = float("nan")
+    rescued: bool = False
     control: StepControl | None = None
 
     def absorb(self, result) -> None:
@@ -398,11 +401,13 @@ def _solve_step(problem: _StepProblem, predictor, tol, policy, solver):
     else:
         order = [predictor]
     reasons = []
+    first_tangent = (policy or NewtonPolicy()).tangents[0]
     for name in order:
         result = newton(problem, problem.start(name), tol, policy, solver)
         info.absorb(result)
         if result.converged:
             info.predictor = name
+            info.rescued = name != order[0] or result.tangent != first_tangent
             return problem.state(result.x), info
         reasons.append(f"{name} predictor: {result.reason}")
     where = f"at t = {problem.t1:.6g} s (dt = {problem.dt:.3g} s)"

@@ -2,7 +2,8 @@
 
 :class:`RunProfile` adds up the integrator's step records; at the end of a run it reads the
 model's own timers (``model.seconds``: the laws' trial moments and the rest of the force and
-tangent evaluation) and the linear solver's (analysis, factorisation, solve), and puts the
+tangent evaluation) and the linear solver's (analysis, factorisation, solve, and how many
+factorisations were LDLᵀ because a step matrix was not positive definite), and puts the
 rest under ``other`` (Newton's vector work, step control). ``summary.json`` keeps it as
 ``profile``.
 """
@@ -13,7 +14,7 @@ __all__ = ["RunProfile"]
 
 class RunProfile:
     """Counts of converged steps, Newton iterations, force evaluations and factorisations,
-    failed attempts, and the output time.
+    failed attempts, steps that only a fallback start or tangent converged, and the output time.
 
     Examples
     --------
@@ -28,6 +29,7 @@ class RunProfile:
 
     def __init__(self):
         self.steps = self.iterations = self.evaluations = self.factorizations = self.failed_attempts = 0
+        self.rescued_steps = 0
         self.output_s = 0.0
 
     def add(self, info) -> None:
@@ -37,6 +39,7 @@ class RunProfile:
         self.evaluations += int(info.evaluations)
         self.factorizations += int(info.factorizations)
         self.failed_attempts += int(info.cuts)
+        self.rescued_steps += int(bool(getattr(info, "rescued", False)))
 
     def summary(self, model, solver, wall: float) -> dict:
         """Counts and the split of ``wall`` [s] into assembly, law, linear solve, output, other."""
@@ -44,5 +47,7 @@ class RunProfile:
                    "linear_solve": float(sum(solver.seconds.values())), "output": float(self.output_s)}
         seconds["other"] = max(0.0, float(wall) - sum(seconds.values()))
         return {"steps": self.steps, "newton_iterations": self.iterations, "evaluations": self.evaluations,
-                "factorizations": self.factorizations, "failed_attempts": self.failed_attempts,
+                "factorizations": self.factorizations,
+                "ldlt_factorizations": int(getattr(solver, "ldlt_factorizations", 0)),
+                "failed_attempts": self.failed_attempts, "rescued_steps": self.rescued_steps,
                 "seconds": {k: round(v, 3) for k, v in seconds.items()}}

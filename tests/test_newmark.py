@@ -221,6 +221,39 @@ def test_auto_predictor_falls_back_only_to_a_start_near_balance():
     assert tried == {"swing": ["acceleration"], "release": ["acceleration", "displacement"]}
 
 
+class WrongConsistentTangent(Oscillator):
+    """The oscillator with a "consistent" tangent that makes the step's Jacobian negative (its
+    corrections point uphill): only "stick" converges."""
+
+    def evaluate(self, u, v, a, t, tangent=None):
+        ev = super().evaluate(u, v, a, t, tangent)
+        if tangent == "consistent":
+            ev.K = -1e7 * ev.K
+        return ev
+
+
+def test_a_step_converged_only_by_a_fallback_is_marked_rescued():
+    """A step converged with the first start and tangent is not rescued; one that needed the
+    stick tangent is, and the run profile counts it."""
+    from types import SimpleNamespace
+
+    from drape.newton import NewtonPolicy
+    from drape.profile import RunProfile
+
+    state = NewmarkState(0.0, np.array([0.3]), np.array([0.0]), np.array([-4 * np.pi**2 * 0.3]))
+    policy = NewtonPolicy(tangents=("consistent", "stick"))
+    _, plain = newmark_step(Oscillator(k3=5.0), state, 0.01, policy=policy)
+    _, saved = newmark_step(WrongConsistentTangent(k3=5.0), state, 0.01, policy=policy)
+    assert (plain.rescued, plain.tangent) == (False, "consistent")
+    assert (saved.rescued, saved.tangent) == (True, "stick")
+    profile = RunProfile()
+    for info in (plain, saved, plain):
+        profile.add(info)
+    model = SimpleNamespace(seconds={"law": 0.0, "assembly": 0.0})
+    summary = profile.summary(model, DirectSolver(), wall=1.0)
+    assert summary["rescued_steps"] == 1 and summary["ldlt_factorizations"] == 0
+
+
 def test_symmetric_viscous_tangent_gives_the_same_path():
     """A hanging strip with a viscous law (d/k1 = 1 s) in large rotation: Newton on the
     symmetric part of K (LDLᵀ) and on the exact, unsymmetric K (LU) reach the same states to
@@ -298,23 +331,25 @@ def test_pardiso_factorises_by_cholesky_until_a_matrix_is_indefinite():
     RETRY_AFTER; then Cholesky is tried again. Every solve matches SciPy's spsolve."""
     import scipy.sparse.linalg as spla
 
+    from drape.linsolve import _PardisoSymmetric
+
     n = 400
     lap = sp.diags([-np.ones(n - 1), 2.5 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1], format="csr")
     shift = np.zeros(n)
     shift[[100, 300]] = -3.0
     definite, indefinite = lap, (lap + sp.diags(shift)).tocsr()
+    assert np.sum(np.linalg.eigvalsh(indefinite.toarray()) < 0) == 2
     solver = DirectSolver(symmetric=True, backend="pardiso")
-    impl_types = []
+    retry = _PardisoSymmetric.RETRY_AFTER
     b = np.random.default_rng(0).standard_normal(n)
-    retry = None
-    for k, A in enumerate([definite, indefinite] + [definite] * 10):
+    by_ldlt = []
+    for A in [definite, indefinite] + [definite] * 10:
+        before = solver.ldlt_factorizations
         solver.factorize(A)
-        impl = solver._impl
-        retry = impl.RETRY_AFTER
-        impl_types.append(impl._active.mtype)
+        by_ldlt.append(solver.ldlt_factorizations > before)
         np.testing.assert_allclose(solver.solve(b), spla.spsolve(A.tocsc(), b), rtol=1e-10)
-    assert impl_types == [2] + [-2] * (retry + 1) + [2] * (11 - retry - 1)
-    assert solver._impl.indefinite == retry + 1 and solver.analyses == 1
+    assert by_ldlt == [False] + [True] * (retry + 1) + [False] * (11 - retry - 1)
+    assert solver.analyses == 1
 
 
 # --------------------------------------------------------------------------- robustness

@@ -183,3 +183,50 @@ def test_bench_tiny_runs_the_factors_and_writes_table_json_and_chart(tmp_path, c
     assert len(read_results(out / "results.csv")) == 4
     assert bench.main(args + ["--resume", "--set", "model.damping.alpha=5"]) == 1
     assert "use a new --out" in capsys.readouterr().err
+
+
+def _fold_bench():
+    spec = importlib.util.spec_from_file_location("fold_preference",
+                                                  ROOT / "benchmarks" / "fold_preference.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_fold_preference_names_the_frictionless_state_of_least_energy(tmp_path):
+    """Π = U + V from each run's summary.json; the sentence names the lowest frictionless Π,
+    whatever friction-on runs reach (hand-made records)."""
+    bench = _fold_bench()
+    records = []
+    for name, n, friction, nodes, U, V in (("a", 4, "false", 8, 0.5e-3, -1.52e-3),
+                                           ("b", 6, "false", 6, 0.4e-3, -1.50e-3),
+                                           ("c", 6, "true", 6, 0.1e-3, -2.00e-3)):
+        run = tmp_path / "runs" / name
+        run.mkdir(parents=True)
+        (run / "summary.json").write_text(json.dumps({"final": {"strain": U, "external_potential": V}}))
+        records.append({"name": name, "load.perturbation.n_lobes": str(n), "material.friction": friction,
+                        "status": "settled", "nodes": str(nodes), "DC_percent": "50",
+                        "settling_time_s": "1", "run_dir": f"runs/{name}"})
+    table = bench.energy_table(tmp_path, records)
+    assert [(r["imposed"], r["friction"]) for r in table] == [(6, True), (4, False), (6, False)]
+    assert table[1]["Pi"] == pytest.approx(0.5e-3 - 1.52e-3, abs=1e-15)
+    text = bench.markdown(table)
+    assert "lowest energy is the 6-node state (imposed 6, Π = -1.1000 mJ)" in text
+    bench.plot(table, tmp_path / "p.png", "t", measured=5)
+    assert (tmp_path / "p.png").read_bytes()[:8] == PNG_MAGIC
+    assert bench.measured_nodes(WOOL) == 5
+
+
+def test_fold_preference_tiny_runs_each_mode_with_and_without_friction(tmp_path, capsys):
+    bench = _fold_bench()
+    out = tmp_path / "folds"
+    args = [str(WOOL), "--tiny", "--lobes", "2,3", "--out", str(out), "--workers", "2",
+            "--set", "mesh.n_radial=1", "--set", "mesh.n_circumferential=12", "--set", "solver.t_end=0.02"]
+    assert bench.main(args) == 0
+    results = {r["name"]: r for r in read_results(out / "results.csv")}
+    assert sorted(results) == ["n2_friction", "n2_frictionless", "n3_friction", "n3_frictionless"]
+    assert results["n3_frictionless"]["load.perturbation.n_lobes"] == "3"
+    assert results["n3_frictionless"]["material.friction"] == "false"
+    md = (out / "fold_preference.md").read_text()
+    assert md.count("| completed |") == 4 and "Π = U + V" in capsys.readouterr().out
+    assert (out / "fold_preference.png").read_bytes()[:8] == PNG_MAGIC
