@@ -128,9 +128,9 @@ def test_tornado_bars_are_the_changes_sorted_by_swing_with_the_measured_line(tmp
     assert json.loads(paths["json"].read_text())["base"]["DC_percent"] == 60.0
 
 
-def _bench():
-    spec = importlib.util.spec_from_file_location("bench_sensitivity",
-                                                  ROOT / "benchmarks" / "bench_sensitivity.py")
+def _bench(name="bench_sensitivity"):
+    """A script of benchmarks/ as a module."""
+    spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -185,18 +185,10 @@ def test_bench_tiny_runs_the_factors_and_writes_table_json_and_chart(tmp_path, c
     assert "use a new --out" in capsys.readouterr().err
 
 
-def _fold_bench():
-    spec = importlib.util.spec_from_file_location("fold_preference",
-                                                  ROOT / "benchmarks" / "fold_preference.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 def test_fold_preference_names_the_frictionless_state_of_least_energy(tmp_path):
     """Π = U + V from each run's summary.json; the sentence names the lowest frictionless Π,
     whatever friction-on runs reach (hand-made records)."""
-    bench = _fold_bench()
+    bench = _bench("fold_preference")
     records = []
     for name, n, friction, nodes, U, V in (("a", 4, "false", 8, 0.5e-3, -1.52e-3),
                                            ("b", 6, "false", 6, 0.4e-3, -1.50e-3),
@@ -218,7 +210,7 @@ def test_fold_preference_names_the_frictionless_state_of_least_energy(tmp_path):
 
 
 def test_fold_preference_tiny_runs_each_mode_with_and_without_friction(tmp_path, capsys):
-    bench = _fold_bench()
+    bench = _bench("fold_preference")
     out = tmp_path / "folds"
     args = [str(WOOL), "--tiny", "--lobes", "2,3", "--out", str(out), "--workers", "2",
             "--set", "mesh.n_radial=1", "--set", "mesh.n_circumferential=12", "--set", "solver.t_end=0.02"]
