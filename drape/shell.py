@@ -175,6 +175,19 @@ def membrane_matrix(material):
                      [0.0, 0.0, G12]])
 
 
+def _without_zeros(A):
+    """A copy of the CSR matrix ``A`` without its stored zeros, for products.
+
+    The shell's matrices share one pattern that couples every pair of displacement
+    components of a triangle; the mass (and mass-proportional damping) couples only like
+    components, so two thirds of its stored entries are zeros. Dropping them makes
+    ``M @ a`` about three times cheaper and changes no digit of it.
+    """
+    B = A.copy()
+    B.eliminate_zeros()
+    return B
+
+
 class KirchhoffLoveShell:
     """Total-Lagrangian Kirchhoff–Love fabric with hysteretic bending.
 
@@ -305,6 +318,7 @@ class KirchhoffLoveShell:
 
         self._setup_edges(load_boundary)
         self._M = self._mass()
+        self._M_product = _without_zeros(self._M)
         weight = np.array([0.0, 0.0, -self.rho_A * self.g])
         self._f_gravity = self._surface_vector(lambda x: weight[:, None, None] * np.ones_like(x[0]))
         self._f_surface, self.surface_amplitude = None, None
@@ -318,6 +332,7 @@ class KirchhoffLoveShell:
         self.seconds = {"law": 0.0, "assembly": 0.0}
         self._K0 = self.linear_stiffness()
         self._C0, self._C0_key = None, None   # αM + βK0, built on first use
+        self._C0_product = None
         self._friction_work = self._damping_work = 0.0
         self._u_committed, self._v_committed = zero.copy(), zero.copy()   # at rest
         self._kappa_committed = np.zeros(self.w.shape + (3,))
@@ -594,28 +609,31 @@ class KirchhoffLoveShell:
         C0 = self._rayleigh_damping()
         if tangent is None:
             fint, f_inertia = self._internal_forces(u, v, a)
-            return Evaluation(self._M @ a + f_inertia, C0 @ v + fint - f_ext)
+            return Evaluation(self._M_product @ a + f_inertia, self._C0_product @ v + fint - f_ext)
         fint, Kd, Cd, Md = self._internal(u, v, a, friction_tangent=tangent)
-        # without the law's terms C and M are the constant ones (shared, never written to)
-        if Cd is None:
-            Cd = C0.data
-        else:
-            Cd += C0.data
-        if Md is None:
-            Md = self._M.data
-        else:
-            Md += self._M.data
         if Kl is not None:
             Kd += lam * Kl
         # one CSR pattern for K, C and M: the integrator adds their data directly
-        K, C, M = (self.pattern.from_data(d) for d in (Kd, Cd, Md))
-        return Evaluation(M @ a, C @ v + fint - f_ext, K, C, M)
+        C, Cv = self._plus_constant(Cd, C0, self._C0_product, v)
+        M, Ma = self._plus_constant(Md, self._M, self._M_product, a)
+        return Evaluation(Ma, Cv + fint - f_ext, self.pattern.from_data(Kd), C, M)
+
+    def _plus_constant(self, law_data, constant, product, x):
+        """``(A, A x)`` for ``A`` the constant matrix plus the laws' term (its CSR data on the
+        pattern, or None). Without the laws' term ``A`` shares the constant's data (never
+        written to) and ``A x`` is taken with ``product``, its zero-free copy."""
+        if law_data is None:
+            return self.pattern.from_data(constant.data), product @ x
+        law_data += constant.data
+        A = self.pattern.from_data(law_data)
+        return A, A @ x
 
     def _rayleigh_damping(self):
         """``α M + β K0`` on the shell's pattern, built once per pair ``(α, β)``."""
         if self._C0_key != self.rayleigh:
             alpha, beta = self.rayleigh
             self._C0 = self.pattern.from_data(alpha * self._M.data + beta * self._K0.data)
+            self._C0_product = _without_zeros(self._C0)
             self._C0_key = self.rayleigh
         return self._C0
 
@@ -777,7 +795,7 @@ class KirchhoffLoveShell:
         bend = sum(float(np.sum(law.elastic_energy(kap[..., i]) * self.w))
                    for i, law in enumerate((self.warp_law, self.weft_law)))
         bend += float(np.sum(0.25 * self.twist * kap[..., 2] ** 2 * self.w))
-        kinetic = 0.5 * float(v @ (self._M @ v))
+        kinetic = 0.5 * float(v @ (self._M_product @ v))
         # potential of the dead loads (gravity, surface and edge force)
         t = self._t_last if t is None else t
         f_dead = self._dead_surface_force(t)
