@@ -76,7 +76,13 @@ def blas_threads(limit: int = 1):
 
 
 class LinearSolverError(RuntimeError):
-    """The linear solver failed (singular matrix, solver error code); Newton treats the step as failed."""
+    """The linear solver failed (singular matrix, solver error code); Newton treats the step as failed.
+
+    ``code`` is the back end's error code, where it gives one (PARDISO's ``error``)."""
+
+    def __init__(self, message: str, code: int | None = None):
+        super().__init__(message)
+        self.code = code
 
 
 def _same_memory(x, y) -> bool:
@@ -244,9 +250,7 @@ class _Pardiso:
                  self.iparm.ctypes.data_as(c_int), ctypes.byref(ctypes.c_int32(0)),
                  b.ctypes.data_as(c_double), x.ctypes.data_as(c_double), ctypes.byref(error))
         if error.value != 0:
-            exc = LinearSolverError(f"PARDISO phase {phase} failed with error {error.value}")
-            exc.code = error.value
-            raise exc
+            raise LinearSolverError(f"PARDISO phase {phase} failed with error {error.value}", error.value)
 
     def analyse(self, A):
         self.release()
@@ -315,7 +319,7 @@ class _PardisoSymmetric:
                 self._active = self.cholesky
                 return
             except LinearSolverError as exc:
-                if getattr(exc, "code", None) != -4:   # -4: a zero or negative pivot
+                if exc.code != -4:   # -4: a zero or negative pivot
                     raise
                 self._skip = self.RETRY_AFTER
         if not self._ldlt_pattern:

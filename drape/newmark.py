@@ -401,13 +401,12 @@ def _solve_step(problem: _StepProblem, predictor, tol, policy, solver):
     else:
         order = [predictor]
     reasons = []
-    first_tangent = (policy or NewtonPolicy()).tangents[0]
     for name in order:
         result = newton(problem, problem.start(name), tol, policy, solver)
         info.absorb(result)
         if result.converged:
             info.predictor = name
-            info.rescued = name != order[0] or result.tangent != first_tangent
+            info.rescued = name != order[0] or result.fallback
             return problem.state(result.x), info
         reasons.append(f"{name} predictor: {result.reason}")
     where = f"at t = {problem.t1:.6g} s (dt = {problem.dt:.3g} s)"

@@ -151,6 +151,7 @@ class NewtonResult:
     evaluations: int = 0
     factorizations: int = 0
     tangent: str = ""
+    fallback: bool = False      # converged (or ended) with a tangent after the policy's first
     residual_norms: list = field(default_factory=list)
     increment_norms: list = field(default_factory=list)
     reason: str = ""
@@ -307,6 +308,7 @@ def newton(problem: NonlinearProblem, x0, tolerances: NewtonTolerances | None = 
         except LinearSolverError as exc:
             result = attempt._fail(np.array(x0, dtype=float), f"linear solver failed ({exc})")
         totals += (result.iterations, result.evaluations, result.factorizations)
+        result.fallback = tangent != policy.tangents[0]
         if result.converged:
             break
         reasons.append(result.reason)

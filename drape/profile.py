@@ -20,9 +20,9 @@ class RunProfile:
     --------
     >>> from types import SimpleNamespace as NS
     >>> p = RunProfile()
-    >>> p.add(NS(iterations=3, evaluations=5, factorizations=3, cuts=1))
+    >>> p.add(NS(iterations=3, evaluations=5, factorizations=3, cuts=1, rescued=False))
     >>> model = NS(seconds={"law": 1.0, "assembly": 2.0})
-    >>> solver = NS(seconds={"analysis": 0.1, "factorization": 0.5, "solve": 0.4})
+    >>> solver = NS(seconds={"analysis": 0.1, "factorization": 0.5, "solve": 0.4}, ldlt_factorizations=0)
     >>> p.summary(model, solver, wall=5.0)["seconds"]
     {'assembly': 2.0, 'law': 1.0, 'linear_solve': 1.0, 'output': 0.0, 'other': 1.0}
     """
@@ -39,7 +39,7 @@ class RunProfile:
         self.evaluations += int(info.evaluations)
         self.factorizations += int(info.factorizations)
         self.failed_attempts += int(info.cuts)
-        self.rescued_steps += int(bool(getattr(info, "rescued", False)))
+        self.rescued_steps += int(info.rescued)
 
     def summary(self, model, solver, wall: float) -> dict:
         """Counts and the split of ``wall`` [s] into assembly, law, linear solve, output, other."""
@@ -48,6 +48,6 @@ class RunProfile:
         seconds["other"] = max(0.0, float(wall) - sum(seconds.values()))
         return {"steps": self.steps, "newton_iterations": self.iterations, "evaluations": self.evaluations,
                 "factorizations": self.factorizations,
-                "ldlt_factorizations": int(getattr(solver, "ldlt_factorizations", 0)),
+                "ldlt_factorizations": int(solver.ldlt_factorizations),
                 "failed_attempts": self.failed_attempts, "rescued_steps": self.rescued_steps,
                 "seconds": {k: round(v, 3) for k, v in seconds.items()}}

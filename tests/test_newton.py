@@ -68,10 +68,12 @@ def test_stick_tangent_fallback_and_the_reason_of_each_failure():
     res = newton(prob, np.array([0.5]), NewtonTolerances(rtol=1e-12, du_rtol=1e-12),
                  NewtonPolicy(tangents=("consistent", "stick")))
     assert res.converged and res.tangent == "stick" and res.x[0] == pytest.approx(1.0, rel=1e-12)
+    assert res.fallback
     assert prob.used[0] == "consistent" and "stick" in prob.used
     alone = newton(Problem(f, good, b=2.0, jacobians={"consistent": wrong}), np.array([0.5]),
                    NewtonTolerances(rtol=1e-12, du_rtol=1e-12))
     assert not alone.converged and "consistent tangent" in alone.reason and "residual norms" in alone.reason
+    assert not alone.fallback
 
 
 def test_newton_passes_the_stick_slip_kink_of_the_friction_law():
