@@ -6,11 +6,11 @@ timed for
 
 1. the kinematics (strain and curvature at the quadrature points) and the laws' trial
    moments, which every evaluation needs;
-2. the force-only pass, ``_internal(..., need_tangent=False)`` (line search, balance
-   checks);
-3. the force with the tangent and the law's viscous and inertia matrices,
-   ``_internal(u, v, a)``;
-4. the full ``residual`` (plus external and edge loads, K, C, M as CSR).
+2. the force-only pass, ``_internal(u, v)`` (line search, balance checks);
+3. the force with a Newmark step's matrix ``c_K K + c_C C_law + c_M M_law``,
+   ``_internal(u, v, a, weights)``;
+4. the whole ``evaluate`` of a step (plus Rayleigh damping, mass, external loads; the
+   step's matrix as CSR).
 
 The first call compiles the kernels (or loads them from numba's cache) and is reported
 apart. Threads follow ``NUMBA_NUM_THREADS``.
@@ -29,6 +29,10 @@ import numpy as np
 from constitutive.material import load_material
 from drape.shell import KirchhoffLoveShell
 from meshes import cusick_annulus
+
+
+#: ``(c_K, c_C, c_M)`` of a Newmark step of 0.01 s (β = 1/4, γ = 1/2)
+STEP_WEIGHTS = (1.0, 2.0 / 0.01 * 0.5 * 2, 1.0 / (0.25 * 0.01 ** 2))
 
 
 def timeit(fun, repeat):
@@ -76,9 +80,10 @@ def main(argv=None):
         shell._moments(kappa)
 
     rows = [("kinematics + law trial", law),
-            ("force only", lambda: shell._internal(u, need_tangent=False)),
-            ("force + tangent (K, C_law, M_law)", lambda: shell._internal(u, v, a)),
-            ("residual (R, K, C, M as CSR)", lambda: shell.residual(u, v, a, 0.5))]
+            ("force only", lambda: shell._internal(u, v)),
+            ("force + step matrix (kernel)", lambda: shell._internal(u, v, a, STEP_WEIGHTS)),
+            ("evaluate (R, step matrix as CSR)",
+             lambda: shell.evaluate(u, v, a, 0.5, "consistent", STEP_WEIGHTS))]
     for name, fun in rows:
         t = timeit(fun, args.repeat)
         print(f"  {name:40s} : {t:9.4f} s")

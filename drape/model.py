@@ -28,8 +28,19 @@ class Evaluation:
     force : ndarray
         Everything else: ``C v + f_int(u) − f_ext(u, t)``, friction included.
     K, C, M : scipy.sparse.csr_matrix or None
-        ``∂R/∂u``, ``∂R/∂v``, ``∂R/∂a`` (None when no tangent was asked for); the same
-        CSR pattern for all three lets the integrator add their data directly.
+        ``∂R/∂u``, ``∂R/∂v``, ``∂R/∂a`` (None when no tangent, or only their weighted sum,
+        was asked for).
+    J : scipy.sparse.csr_matrix or None
+        ``c_K K + c_C C + c_M M`` when the caller gave weights: the one matrix an implicit
+        step factorises, which a model may assemble in one pass.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> one = sp.csr_matrix([[1.0]])
+    >>> ev = Evaluation(np.zeros(1), np.zeros(1), 4 * one, 2 * one, one).weighted((1.0, 10.0, 100.0))
+    >>> ev.J.toarray(), ev.K
+    (array([[124.]]), None)
     """
 
     inertia: np.ndarray
@@ -37,11 +48,21 @@ class Evaluation:
     K: object = None
     C: object = None
     M: object = None
+    J: object = None
 
     @property
     def residual(self) -> np.ndarray:
         """``M a + C v + f_int − f_ext``."""
         return self.inertia + self.force
+
+    def weighted(self, weights) -> "Evaluation":
+        """This evaluation with ``J = c_K K + c_C C + c_M M`` in place of ``K, C, M``, for a model
+        that assembles the three apart; ``weights`` None or no tangent: itself."""
+        if weights is None or self.K is None:
+            return self
+        J = sum((c * A for c, A in zip(weights[1:], (self.C, self.M)) if A is not None and c != 0.0),
+                weights[0] * self.K)
+        return Evaluation(self.inertia, self.force, J=J.tocsr())
 
 
 @runtime_checkable
@@ -79,10 +100,11 @@ class StructuralModel(Protocol):
         """True when every tangent :meth:`evaluate` returns is symmetric (a symmetric
         factorisation is then valid)."""
 
-    def evaluate(self, u, v, a, t: float, tangent: str | None = None) -> Evaluation:
+    def evaluate(self, u, v, a, t: float, tangent: str | None = None, weights=None) -> Evaluation:
         """Forces at ``(u, v, a, t)``; with ``tangent`` (a name of
         :data:`constitutive.law.FRICTION_TANGENTS`) also ``K, C, M`` with that
-        material tangent. Does not change the model's committed state."""
+        material tangent, or with ``weights = (c_K, c_C, c_M)`` only their sum ``J``
+        (:meth:`Evaluation.weighted`). Does not change the model's committed state."""
 
     def residual(self, u, v, a, t: float):
         """``R = M a + C v + f_int(u) − f_ext(t)`` and its derivatives ``(K, C, M)``

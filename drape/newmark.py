@@ -42,9 +42,9 @@ energy exactly with the average-acceleration rule:
 ...     def prescribed(self, t): return None
 ...     def lifting(self, t): return None
 ...     def force_scale(self, t): return 0.0
-...     def evaluate(self, u, v, a, t, tangent=None):
+...     def evaluate(self, u, v, a, t, tangent=None, weights=None):
 ...         K, M = sp.csr_matrix([[self.k]]), sp.csr_matrix([[1.0]])
-...         return Evaluation(a.copy(), self.k * u, K, sp.csr_matrix((1, 1)), M)
+...         return Evaluation(a.copy(), self.k * u, K, sp.csr_matrix((1, 1)), M).weighted(weights)
 ...     def commit(self, u, v, a): pass
 >>> model = Oscillator()
 >>> s = integrate(model, 1.0, 0.01, NewmarkState(0.0, np.array([1.0]), np.zeros(1), np.array([-model.k])))
@@ -253,9 +253,9 @@ class _StepProblem:
         up, vp, ap = self.c1.lift
         return up + uh, vp + vh, ap + ah
 
-    def _evaluate(self, x, tangent):
+    def _evaluate(self, x, tangent, weights=None):
         u, v, a = self._fields(x)
-        ev = self.model.evaluate(u, v, a, self.t1, tangent)
+        ev = self.model.evaluate(u, v, a, self.t1, tangent, weights)
         R = ev.inertia + ev.force if self.alpha == 0.0 else (
             ev.inertia + (1.0 + self.alpha) * ev.force - self.alpha * self.f0)
         self._last = (x.copy(), ev.force)
@@ -267,10 +267,9 @@ class _StepProblem:
         return R[self.free], scale
 
     def linearize(self, x, tangent):
-        ev, R, scale = self._evaluate(x, tangent)
         b, g, dt, al = self.beta, self.gamma, self.dt, self.alpha
-        terms = [(1.0 + al, ev.K), ((1.0 + al) * g / (b * dt), ev.C), (1.0 / (b * dt * dt), ev.M)]
-        return R[self.free], self.restrict(self.free, terms), scale
+        ev, R, scale = self._evaluate(x, tangent, (1.0 + al, (1.0 + al) * g / (b * dt), 1.0 / (b * dt * dt)))
+        return R[self.free], self.restrict(self.free, ev.J), scale
 
     def norm_reference(self, x):
         # the step's round-off comes from u₀ and Δt v₀ as much as from u (which may pass zero)
@@ -295,12 +294,12 @@ class _Restrictions:
         self.upper = solver.symmetric
         self._cache = {}
 
-    def __call__(self, free, terms):
-        """``Σ c A`` of ``terms = [(c, A), ...]`` restricted to ``free``."""
+    def __call__(self, free, J):
+        """``J`` restricted to ``free``."""
         key = (free.size, hash(free.tobytes()))
         if key not in self._cache:
             self._cache = {key: FreeRestriction(free, upper=self.upper)}
-        return self._cache[key].combine(terms)
+        return self._cache[key](J)
 
 
 def initial_state(model, u0=None, v0=None, t0: float = 0.0) -> NewmarkState:
@@ -320,10 +319,10 @@ def initial_state(model, u0=None, v0=None, t0: float = 0.0) -> NewmarkState:
     v[c.pdofs] = vp[c.pdofs]
     a = ap.copy()
     if c.free.size:
-        ev = model.evaluate(u, v, a, t0, "consistent")
+        ev = model.evaluate(u, v, a, t0, "consistent", (0.0, 0.0, 1.0))
         solver = DirectSolver(symmetric=True, backend="superlu")
         try:
-            solver.factorize(FreeRestriction(c.free, upper=True)(ev.M))
+            solver.factorize(FreeRestriction(c.free, upper=True)(ev.J))
             a[c.free] += solver.solve(-ev.residual[c.free])
         except LinearSolverError:
             pass  # massless free dofs: start from a = 0 there
@@ -574,9 +573,9 @@ class _StaticProblem:
         return R[self.free], max(float(np.linalg.norm(R)), self.scale)
 
     def linearize(self, x, tangent):
-        ev = self.model.evaluate(self.u(x), self.zero, self.zero, self.t, tangent)
-        return ev.force[self.free], self.restrict(self.free, [(1.0, ev.K)]), max(float(np.linalg.norm(ev.force)),
-                                                                      self.scale)
+        ev = self.model.evaluate(self.u(x), self.zero, self.zero, self.t, tangent, (1.0, 0.0, 0.0))
+        return ev.force[self.free], self.restrict(self.free, ev.J), max(float(np.linalg.norm(ev.force)),
+                                                                        self.scale)
 
     def norm_reference(self, x):
         return float(np.linalg.norm(self.u(x)))

@@ -371,9 +371,9 @@ class KirchhoffPlate:
 
     symmetric_tangent = True   # bending, twist, Rayleigh damping and mass are all symmetric
 
-    def evaluate(self, u, v, a, t: float, tangent: str | None = None) -> Evaluation:
+    def evaluate(self, u, v, a, t: float, tangent: str | None = None, weights=None) -> Evaluation:
         """``M a`` and ``C v + f_int(u) − f_ext(t)``; with a friction ``tangent`` name also
-        ``(K, C, M)`` (one CSR pattern)."""
+        ``(K, C, M)`` (one CSR pattern), or with ``weights`` their sum ``J``."""
         self._t_last = float(t)
         t0 = time.perf_counter()
         ue = self.pattern.gather(u)
@@ -395,7 +395,7 @@ class KirchhoffPlate:
         self.seconds["assembly"] += time.perf_counter() - t2 + t1 - t0
         if K is None:
             return Evaluation(self.M @ a, force)
-        return Evaluation(self.M @ a, force, K, self.C, self.M)
+        return Evaluation(self.M @ a, force, K, self.C, self.M).weighted(weights)
 
     def residual(self, u, v, a, t: float):
         """``R = M a + C v + f_int(u) − f_ext(t)`` and its derivatives ``(K, C, M)`` w.r.t. u, v, a."""

@@ -333,6 +333,7 @@ class KirchhoffLoveShell:
         self._K0 = self.linear_stiffness()
         self._C0, self._C0_key = None, None   # αM + βK0, built on first use
         self._C0_product = None
+        self._constant, self._constant_key = None, None   # c_C C0 + c_M M of the last step size
         self._friction_work = self._damping_work = 0.0
         self._u_committed, self._v_committed = zero.copy(), zero.copy()   # at rest
         self._kappa_committed = np.zeros(self.w.shape + (3,))
@@ -423,27 +424,31 @@ class KirchhoffLoveShell:
         return np.array([[self.warp_law.d, self.weft_law.d],
                          [self.warp_law.m, self.weft_law.m]], dtype=float)
 
-    def _internal(self, u, v=None, a=None, elastic_tangent=False, *, friction_tangent=None,
-                  need_tangent=True):
-        """Internal force and the data of (K, C_law, M_law) on the cell pattern.
-
-        ``C_law``/``M_law`` are the law's viscous ``d ∫ ∂κᵀ∂κ`` and curvature
-        inertia ``m ∫ ∂κᵀ∂κ`` in the current configuration; given ``v`` and ``a``,
-        K includes the derivative of ``(C_law v + M_law a)`` with respect to u.
+    def _internal(self, u, v=None, a=None, weights=None, elastic_tangent=False, *,
+                  friction_tangent=None, base=None):
+        """Internal force ``∫ ∂εᵀ N + ∂κᵀ (M + d κ̇)`` and, with ``weights``, the data of the
+        weighted tangent on the cell pattern.
 
         Parameters
         ----------
+        v, a : ndarray, optional
+            Velocity (its curvature rate gives the laws' viscous moment ``d κ̇``, a force) and
+            acceleration (its ``m κ̈`` enters the tangent only: it is inertia,
+            :meth:`_law_inertia`). None: zero.
+        weights : (c_K, c_C, c_M), optional
+            Also return ``c_K K + c_C C_law + c_M M_law``: K the derivative of the force and of
+            ``M_law a`` with respect to u, ``C_law``/``M_law`` the laws' viscous ``d ∫ ∂κᵀ∂κ``
+            and curvature inertia ``m ∫ ∂κᵀ∂κ`` in the current configuration. None: the
+            force only.
         friction_tangent : {"consistent", "nonnegative", "stick"}, optional
             Tangent of the friction moment passed to the laws' ``trial``; None: the
             shell's ``friction_tangent``.
-        need_tangent : bool
-            False: only the force; K, C_law and M_law are returned as None.
+        base : ndarray, optional
+            CSR data the weighted tangent is added to (copied; default zeros).
 
         Returns
         -------
-        fint : ndarray; Kd, Cd, Md : ndarray or None
-            CSR data on :attr:`pattern`; Cd and Md are None when the laws have no
-            viscosity or curvature inertia.
+        fint : ndarray; Jd : ndarray or None
         """
         if friction_tangent is not None:
             try:
@@ -458,34 +463,56 @@ class KirchhoffLoveShell:
         t2 = time.perf_counter()
         Nm = self._membrane_force(eps)
         fe = np.empty((len(ue), 3 * self.nb))
-        if not need_tangent:
-            kernels.internal_force(ue, self.dN, self.HN, self.w, Nm, M, fe)
-            Kd = Cd = Md = None
+        visc = self._viscosity()
+        Jd = None
+        if weights is None:
+            if v is not None and np.any(visc[0]):
+                M = M.copy()
+                M[..., :2] += self._rate_moments(ue, v, visc[0])
+            kernels.internal_force(ue, self.dN, self.HN, self.w, Nm, np.ascontiguousarray(M), fe)
         else:
-            visc = self._viscosity()
             ve = ue * 0.0 if v is None else self._element_values(v)
             ae = ue * 0.0 if a is None else self._element_values(a)
-            Kd, Cd, Md = self._tangent(ue, ve, ae, Nm, M, D, visc, fe)
+            Jd = self._tangent(ue, ve, ae, Nm, M, D, visc, weights, fe, base)
         fint = self.pattern.vector(fe)
         self.seconds["law"] += t2 - t1
         self.seconds["assembly"] += time.perf_counter() - t2 + t1 - t0
-        return fint, Kd, Cd, Md
+        return fint, Jd
 
-    def _tangent(self, ue, ve, ae, Nm, M, D, visc, fe):
-        """Run the tangent kernel: element forces into ``fe``, (Kd, Cd, Md) returned; Cd (Md)
-        is None when the laws have no viscosity (curvature inertia)."""
-        nnz = self.pattern.nnz
-        has_c, has_m = (bool(np.any(row)) for row in visc)
-        # the kernel leaves Cd/Md alone without their terms: no arrays to allocate for it
-        Kd, Cd, Md = np.zeros(nnz), np.zeros(nnz if has_c else 0), np.zeros(nnz if has_m else 0)
+    def _tangent(self, ue, ve, ae, Nm, M, D, visc, weights, fe, base=None):
+        """Run the tangent kernel: element forces into ``fe``; the data of
+        ``c_K K + c_C C_law + c_M M_law`` (added to a copy of ``base``) returned."""
+        Jd = np.zeros(self.pattern.nnz) if base is None else base.copy()
         Q = np.eye(self.w.shape[1]) if self.strain_projection is None else self.strain_projection
         order, start = self._colours
         kernels.use_threads(len(ue))
         kernels.tangent(ue, ve, ae, self.dN, self.HN, self.w, np.ascontiguousarray(Q),
                         np.ascontiguousarray(self.C_m, dtype=float), np.ascontiguousarray(Nm),
-                        np.ascontiguousarray(M), np.ascontiguousarray(D), visc, order, start,
-                        self._csr_map, fe, Kd, Cd, Md, (has_c or has_m) and self._symmetrize_rates())
-        return Kd, Cd if has_c else None, Md if has_m else None
+                        np.ascontiguousarray(M), np.ascontiguousarray(D), visc,
+                        np.asarray(weights, dtype=float), order, start, self._csr_map, fe, Jd,
+                        bool(np.any(visc)) and self._symmetrize_rates())
+        return Jd
+
+    def _rate_moments(self, ue, x, coefficients):
+        """``c κ̇`` (warp, weft), (E, q, 2), of the rate field ``x`` for ``coefficients`` (c_warp, c_weft)."""
+        rate = np.empty(self.w.shape + (3,))
+        kernels.use_threads(len(ue))
+        kernels.curvature_rate(ue, self._element_values(x), self.dN, self.HN, rate)
+        return coefficients * rate[..., :2]
+
+    def _law_inertia(self, u, a):
+        """The laws' curvature-inertia force ``M_law a = ∫ ∂κᵀ m κ̈`` (0.0 without it)."""
+        m = self._viscosity()[1]
+        if not np.any(m):
+            return 0.0
+        t0 = time.perf_counter()
+        ue = self._element_values(u)
+        moments = np.zeros(self.w.shape + (3,))
+        moments[..., :2] = self._rate_moments(ue, a, m)
+        fe = np.empty((len(ue), 3 * self.nb))
+        kernels.internal_force(ue, self.dN, self.HN, self.w, np.zeros_like(moments), moments, fe)
+        self.seconds["assembly"] += time.perf_counter() - t0
+        return self.pattern.vector(fe)
 
     def _kinematics(self, ue):
         """Membrane strain and curvature (Voigt), (E, q, 3) each, of element coefficients."""
@@ -509,8 +536,7 @@ class KirchhoffLoveShell:
         D = np.empty_like(zero)
         D[...] = [self.warp_law.k1, self.weft_law.k1, 0.5 * self.twist]
         fe = np.empty((len(ue), 3 * self.nb))
-        Kd, _, _ = self._tangent(ue, ue, ue, zero, zero, D, np.zeros((2, 2)), fe)
-        return self.pattern.from_data(Kd)
+        return self.pattern.from_data(self._tangent(ue, ue, ue, zero, zero, D, np.zeros((2, 2)), (1.0, 0.0, 0.0), fe))
 
     def _edge_terms(self, u, t):
         """External edge force vector and the follower-moment load stiffness."""
@@ -583,7 +609,7 @@ class KirchhoffLoveShell:
         """No imposed motion: None."""
         return None
 
-    def evaluate(self, u, v, a, t, tangent=None):
+    def evaluate(self, u, v, a, t, tangent=None, weights=None):
         """Forces ``M a`` and ``C v + f_int(u) − f_ext(u, t)`` at a state, and with a tangent name
         their derivatives.
 
@@ -594,39 +620,58 @@ class KirchhoffLoveShell:
         ----------
         tangent : {"consistent", "nonnegative", "stick"}, optional
             Friction tangent of ``K``; None: forces only (no tangent is assembled).
+        weights : (c_K, c_C, c_M), optional
+            Return only ``J = c_K K + c_C C + c_M M``, assembled in one pass (what a Newmark
+            step factorises); None: ``K``, ``C`` and ``M`` apart.
 
         Returns
         -------
         drape.model.Evaluation
             ``K`` (consistent, including the configuration dependence of the law's
-            viscous and curvature-inertia terms), ``C`` and ``M`` on one CSR pattern.
+            viscous and curvature-inertia terms), ``C`` and ``M`` on one CSR pattern, or ``J``.
         """
         self._t_last = t
         u, v, a = (np.asarray(x, dtype=float) for x in (u, v, a))
         fe, Kl = self._edge_terms(u, t)
         lam = self.load_scale
         f_ext = lam * (self._dead_surface_force(t) + fe)
-        C0 = self._rayleigh_damping()
+        self._rayleigh_damping()
+        inertia = self._M_product @ a + self._law_inertia(u, a)
+        force = self._C0_product @ v - f_ext
         if tangent is None:
-            fint, f_inertia = self._internal_forces(u, v, a)
-            return Evaluation(self._M_product @ a + f_inertia, self._C0_product @ v + fint - f_ext)
-        fint, Kd, Cd, Md = self._internal(u, v, a, friction_tangent=tangent)
-        if Kl is not None:
-            Kd += lam * Kl
-        # one CSR pattern for K, C and M: the integrator adds their data directly
-        C, Cv = self._plus_constant(Cd, C0, self._C0_product, v)
-        M, Ma = self._plus_constant(Md, self._M, self._M_product, a)
-        return Evaluation(Ma, Cv + fint - f_ext, self.pattern.from_data(Kd), C, M)
+            return Evaluation(inertia, force + self._internal(u, v)[0])
+        if weights is not None:
+            fint, Jd = self._weighted(u, v, a, weights, tangent, Kl)
+            if fint is None:
+                fint = self._internal(u, v)[0]
+            return Evaluation(inertia, force + fint, J=self.pattern.from_data(Jd))
+        fint, Kd = self._weighted(u, v, a, (1.0, 0.0, 0.0), tangent, Kl)
+        C, M = (self.pattern.from_data(self._weighted(u, v, a, w, tangent, Kl)[1])
+                for w in ((0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
+        return Evaluation(inertia, force + fint, self.pattern.from_data(Kd), C, M)
 
-    def _plus_constant(self, law_data, constant, product, x):
-        """``(A, A x)`` for ``A`` the constant matrix plus the laws' term (its CSR data on the
-        pattern, or None). Without the laws' term ``A`` shares the constant's data (never
-        written to) and ``A x`` is taken with ``product``, its zero-free copy."""
-        if law_data is None:
-            return self.pattern.from_data(constant.data), product @ x
-        law_data += constant.data
-        A = self.pattern.from_data(law_data)
-        return A, A @ x
+    def _weighted(self, u, v, a, weights, tangent, Kl):
+        """Internal force (None when the pass is skipped) and the data of
+        ``c_K K + c_C C + c_M M``: the kernel's weighted tangent on the constant part
+        ``c_C (α M + β K0) + c_M M``. Without a K or law term no kernel runs."""
+        cK, cC, cM = (float(c) for c in weights)
+        base = self._constant_part(cC, cM)
+        visc = self._viscosity()
+        if cK == 0.0 and not np.any(cC * visc[0] + cM * visc[1]):
+            return None, base.copy()
+        fint, Jd = self._internal(u, v, a, (cK, cC, cM), friction_tangent=tangent, base=base)
+        if Kl is not None and cK != 0.0:
+            Jd += cK * self.load_scale * Kl
+        return fint, Jd
+
+    def _constant_part(self, cC, cM):
+        """CSR data of ``c_C (α M + β K0) + c_M M``, kept for the last pair (a run's step
+        size changes rarely)."""
+        key = (cC, cM, self.rayleigh)
+        if self._constant_key != key:
+            self._constant = cC * self._rayleigh_damping().data + cM * self._M.data
+            self._constant_key = key
+        return self._constant
 
     def _rayleigh_damping(self):
         """``α M + β K0`` on the shell's pattern, built once per pair ``(α, β)``."""
@@ -642,41 +687,6 @@ class KirchhoffLoveShell:
         the shell's friction tangent)."""
         ev = self.evaluate(u, v, a, t, self.friction_tangent)
         return ev.residual, ev.K, ev.C, ev.M
-
-    def _internal_forces(self, u, v, a):
-        """Internal force with the law's viscous moments, and the law's curvature-inertia force.
-
-        The same forces as the tangent pass (``f_int + C_law v`` and ``M_law a``, with
-        ``C_law = d ∫ ∂κᵀ∂κ``): the viscous moment ``d ∂κ·v`` joins the bending moment.
-        """
-        t0 = time.perf_counter()
-        ue = self._element_values(u)
-        eps, kappa = self._kinematics(ue)
-        t1 = time.perf_counter()
-        M, _ = self._moments(kappa)
-        t2 = time.perf_counter()
-        visc = self._viscosity()
-        inertia = 0.0
-        if np.any(visc):
-            rate = np.empty(self.w.shape + (3,))
-            for row, x in ((0, v), (1, a)):
-                if not np.any(visc[row]):
-                    continue
-                kernels.curvature_rate(ue, self._element_values(x), self.dN, self.HN, rate)
-                extra = np.zeros_like(M)
-                extra[..., :2] = visc[row] * rate[..., :2]
-                if row == 0:
-                    M = M + extra
-                else:
-                    fe = np.empty((len(ue), 3 * self.nb))
-                    kernels.internal_force(ue, self.dN, self.HN, self.w, np.zeros_like(M), extra, fe)
-                    inertia = self.pattern.vector(fe)
-        fe = np.empty((len(ue), 3 * self.nb))
-        kernels.internal_force(ue, self.dN, self.HN, self.w, self._membrane_force(eps),
-                               np.ascontiguousarray(M), fe)
-        self.seconds["law"] += t2 - t1
-        self.seconds["assembly"] += time.perf_counter() - t2 + t1 - t0
-        return self.pattern.vector(fe), inertia
 
     def force_scale(self, t):
         """Typical size of the external force (for relative residual tests): the full
@@ -742,10 +752,7 @@ class KirchhoffLoveShell:
         d = self._viscosity()[0]
         if not np.any(d):
             return np.zeros(self.w.shape + (2,))
-        kdot = np.empty(self.w.shape + (3,))
-        kernels.use_threads(len(self.edofs))
-        kernels.curvature_rate(self._element_values(u), self._element_values(v), self.dN, self.HN, kdot)
-        return d * kdot[..., :2]
+        return self._rate_moments(self._element_values(u), v, d)
 
     def _membrane_strain(self, eps):
         """``Q eps`` (e, q, ...), whose forces ``C_m Q eps`` the membrane carries: the

@@ -13,8 +13,9 @@ with a (5, 3) coefficient ``c`` (e.g. ``∂κ_v/∂u_bk = N_b,v n_k + N_b,1 (a2 
 tangent is therefore a (5, 5, 3, 3) block ``Z`` contracted twice with ``φ``: once per
 point, then over all points of a triangle in one matrix product, a fraction of the cost of
 dense rank updates of the per-dof variations. The laws' viscous and curvature-inertia
-matrices ``∫ ∂κᵀ d ∂κ`` are of rank 2 per point, and are formed as ``G W Gᵀ`` from the
-per-dof curvature variations ``G`` directly.
+matrices ``∫ ∂κᵀ d ∂κ`` have the same form as the bending material term, so the kernel
+assembles the one matrix a Newmark step factorises, ``c_K K + c_C C_law + c_M M_law``, in
+that same product.
 
 The kernels run in parallel over the triangles of one colour of a colouring in which no
 two triangles of a colour share a dof, so each triangle scatters its tangent into the
@@ -151,9 +152,9 @@ def kinematics(ue, dN, HN, strain, kappa):
 
 
 @njit(cache=True)
-def _variations(a, h, n, j, cde, cdk, p):
+def _variations(a, h, n, j, cde, cdk, p, t):
     """Coefficients (5, 3) of ``∂ε_v`` and ``∂κ_v`` (v = 0..2) at a point, and
-    ``p_v = (I − n n) h_v / j``."""
+    ``p_v = (I − n n) h_v / j``; ``t`` is a 3-vector of scratch."""
     cde[:] = 0.0
     cdk[:] = 0.0
     for k in range(3):
@@ -161,7 +162,6 @@ def _variations(a, h, n, j, cde, cdk, p):
         cde[1, 1, k] = a[1, k]
         cde[2, 0, k] = a[1, k]
         cde[2, 1, k] = a[0, k]
-    t = np.empty(3)
     for v in range(3):
         hn = h[v, 0] * n[0] + h[v, 1] * n[1] + h[v, 2] * n[2]
         for k in range(3):
@@ -210,10 +210,11 @@ def internal_force(ue, dN, HN, w, Nm, M, fe):
         cdk = np.empty((3, 5, 3))
         F = np.empty((5, 3))
         phi = np.empty((5, nb))
+        t = np.empty(3)
         fe[e] = 0.0
         for q in range(nq):
             j = _point(dN[e, q], HN[e, q], ue[e], a, h, n)
-            _variations(a, h, n, j, cde, cdk, p)
+            _variations(a, h, n, j, cde, cdk, p, t)
             _phi(dN[e, q], HN[e, q], phi)
             F[:] = 0.0
             for v in range(3):
@@ -224,31 +225,28 @@ def internal_force(ue, dN, HN, w, Nm, M, fe):
 
 
 @njit(cache=True)
-def _rate(dN, HN, x, a, h, n, j, p, visc_v, wq, cdk, Mg, Z):
+def _rate(dN, HN, x, a, h, n, j, p, visc_v, wq, cdk, Mg, Z, work):
     """Curvature rate of the field ``x`` and, with ``visc_v`` = (c_warp, c_weft), the
-    moments ``c κ̇`` added to ``Mg`` and ``w c ∂κ ⊗ ∂κ̇/∂u`` added to ``Z``."""
+    moments ``c κ̇`` added to ``Mg`` and ``w c ∂κ ⊗ ∂κ̇/∂u`` added to ``Z``; ``work`` is
+    (15, 3) scratch."""
     nb = dN.shape[0]
-    ad = np.zeros((2, 3))
-    hd = np.zeros((3, 3))
+    ad, hd, t1, t2, a3d, nd, y, cg = (work[0:2], work[2:5], work[5], work[6], work[7], work[8],
+                                      work[9], work[10:15])
+    ad[:] = 0.0
+    hd[:] = 0.0
     for b in range(nb):
         for k in range(3):
             ad[0, k] += dN[b, 0] * x[b, k]
             ad[1, k] += dN[b, 1] * x[b, k]
             for v in range(3):
                 hd[v, k] += HN[b, v] * x[b, k]
-    t1 = np.empty(3)
-    t2 = np.empty(3)
-    a3d = np.empty(3)
     _cross(ad[0], a[1], t1)
     _cross(a[0], ad[1], t2)
     for k in range(3):
         a3d[k] = t1[k] + t2[k]
     na3 = n[0] * a3d[0] + n[1] * a3d[1] + n[2] * a3d[2]
-    nd = np.empty(3)
     for k in range(3):
         nd[k] = (a3d[k] - na3 * n[k]) / j
-    cg = np.zeros((5, 3))
-    y = np.empty(3)
     for v in range(2):
         if visc_v[v] == 0.0:
             continue
@@ -284,7 +282,7 @@ def _rate(dN, HN, x, a, h, n, j, p, visc_v, wq, cdk, Mg, Z):
 
 @njit(cache=True)
 def _half(Z, phi, Wrow):
-    """``Wrow[s, k, c, l] += Σ_t Z[s, t, k, l] φ_t[c]``."""
+    """``Wrow[s, k, c, l] = Σ_t Z[s, t, k, l] φ_t[c]``."""
     nb = phi.shape[1]
     for s in range(5):
         for k in range(3):
@@ -293,7 +291,7 @@ def _half(Z, phi, Wrow):
                     acc = 0.0
                     for t in range(5):
                         acc += Z[s, t, k, l] * phi[t, c]
-                    Wrow[s, k, c, l] += acc
+                    Wrow[s, k, c, l] = acc
 
 
 @njit(cache=True)
@@ -310,9 +308,14 @@ def _outer_add(scale, x, y, Z):
 
 
 @njit(cache=True, parallel=True)
-def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map,
-            fe, Kd, Cd, Md, symmetrize=False):
-    """Element internal force and the tangents, scattered into CSR data.
+def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, weights, order, start, csr_map,
+            fe, Jd, symmetrize=False):
+    """Element internal force and the weighted tangent ``c_K K + c_C C_law + c_M M_law``,
+    scattered into CSR data.
+
+    A Newmark step needs only this sum, so the laws' viscous and curvature-inertia matrices
+    ``∫ ∂κᵀ (c_C d + c_M m) ∂κ`` join the bending material term ``∫ ∂κᵀ D ∂κ`` point by
+    point: they cost no element matrix product of their own and no scatter.
 
     Parameters
     ----------
@@ -326,19 +329,24 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
         Membrane forces ``C_m Q ε``, the laws' moments and their tangents ``dM_v/dκ_v``.
     visc : (2, 2)
         ``[[d_warp, d_weft], [m_warp, m_weft]]``: the laws' viscosity and curvature inertia.
+    weights : (3,)
+        ``(c_K, c_C, c_M)``.
     order, start : element colouring (:func:`element_colours`).
     csr_map : (E, 3 nb, 3 nb) int
         Position of every element-matrix entry in the CSR data.
-    fe : (E, 3 nb) output element internal forces.
+    fe : (E, 3 nb) output
+        Element forces ``∫ ∂εᵀ N + ∂κᵀ (M + d κ̇)``: the laws' viscous moment is a force,
+        their curvature inertia ``m κ̈`` is not (it belongs to the inertia).
+    Jd : (nnz,)
+        CSR data the weighted tangent is added to. ``K = ∂f/∂u`` is material + geometric +
+        the configuration dependence of ``d κ̇ + m κ̈``; ``C_law = d ∫ ∂κᵀ∂κ``,
+        ``M_law = m ∫ ∂κᵀ∂κ``.
     symmetrize : bool
-        Scatter the symmetric part ``(K + Kᵀ)/2`` of each element's ``∂f/∂u`` (only the
-        rate terms are unsymmetric).
-    Kd, Cd, Md : (nnz,) outputs, zeroed by the caller (Cd, Md untouched, and may be
-        empty, when ``visc`` has no viscosity or no curvature inertia)
-        ``∂f/∂u`` (material + geometric + the configuration dependence of
-        ``d κ̇ + m κ̈``), the law's viscous ``d ∫ ∂κᵀ∂κ`` and inertia ``m ∫ ∂κᵀ∂κ``.
+        Scatter the symmetric part of each element's matrix (only K's rate terms are
+        unsymmetric).
     """
     nq, nb = dN.shape[1], dN.shape[2]
+    cK, cC, cM = weights[0], weights[1], weights[2]
     has_c = visc[0, 0] != 0.0 or visc[0, 1] != 0.0
     has_m = visc[1, 0] != 0.0 or visc[1, 1] != 0.0
     for colour in range(len(start) - 1):
@@ -361,13 +369,7 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
             Qde = np.dot(Q, de.reshape(nq, 9 * nb)).reshape(nq, 3, nb, 3)
             # Σ_q Σ_s φ_qs[b] W_q[s, k, c, l] as one matrix product over (q, s)
             Phi = np.empty((nb, 5 * nq))
-            Wall = np.zeros((5 * nq, 3, nb, 3))
-            # C_law = Gᵀ W G (M_law alike): the rows of G the variations ∂κ_v (v = warp,
-            # weft) at every point, W = diag(w d_v); a product of rank 2 nq
-            nr = 2 * nq if has_c or has_m else 0
-            G = np.empty((nr, nb, 3))
-            GC = np.empty((nr if has_c else 0, nb, 3))
-            GM = np.empty((nr if has_m else 0, nb, 3))
+            Wall = np.empty((5 * nq, 3, nb, 3))   # every entry set by _half
             Z = np.empty((5, 5, 3, 3))
             p = np.empty((3, 3))
             cde = np.empty((3, 5, 3))
@@ -385,56 +387,43 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
             m = np.empty(3)
             pm = np.empty(3)
             Mg = np.empty(3)
+            Mf = np.empty(3)
             F = np.empty((5, 3))
+            t3 = np.empty(3)
+            work = np.empty((15, 3))
             fe[e] = 0.0
             for q in range(nq):
                 j = jq[q]
                 wq = w[e, q]
-                _variations(a[q], h[q], n[q], j, cde, cdk, p)
+                _variations(a[q], h[q], n[q], j, cde, cdk, p, t3)
                 _phi(dN[e, q], HN[e, q], phi)
                 Wrow = Wall[5 * q:5 * q + 5]
                 for s in range(5):
                     for b in range(nb):
                         Phi[b, 5 * q + s] = phi[s, b]
+                # ---- moments: the law's, + d κ̇ (the force's), + m κ̈ (the geometric term's);
+                # with them ∂κ ⊗ ∂(d κ̇ + m κ̈)/∂u into Z
+                Z[:] = 0.0
+                for v in range(3):
+                    Mg[v] = M[e, q, v]
+                if has_c:
+                    _rate(dN[e, q], HN[e, q], ve[e], a[q], h[q], n[q], j, p,
+                          visc[0], wq, cdk, Mg, Z, work)
+                for v in range(3):
+                    Mf[v] = Mg[v]
+                if has_m:
+                    _rate(dN[e, q], HN[e, q], ae[e], a[q], h[q], n[q], j, p,
+                          visc[1], wq, cdk, Mg, Z, work)
                 # ---- force
                 F[:] = 0.0
                 for v in range(3):
                     for s in range(5):
                         for k in range(3):
-                            F[s, k] += Nm[e, q, v] * cde[v, s, k] + M[e, q, v] * cdk[v, s, k]
+                            F[s, k] += Nm[e, q, v] * cde[v, s, k] + Mf[v] * cdk[v, s, k]
                 _add_per_dof(wq, phi, F, fe[e].reshape(nb, 3))
-                # ---- membrane material part: w_p ∂ε_pᵀ C_m Σ_q Q_pq ∂ε_q, as rows s = α
-                CQde[:] = 0.0
-                for v in range(3):
-                    for x in range(3):
-                        cvx = wq * C_m[v, x]
-                        if cvx == 0.0:
-                            continue
-                        for b in range(nb):
-                            for k in range(3):
-                                CQde[v, b, k] += cvx * Qde[q, x, b, k]
-                for v in range(3):
-                    for s in range(2):
-                        for k in range(3):
-                            c = cde[v, s, k]
-                            if c == 0.0:
-                                continue
-                            for b in range(nb):
-                                for l in range(3):
-                                    Wrow[s, k, b, l] += c * CQde[v, b, l]
-                # ---- bending material part and the viscous matrices
-                Z[:] = 0.0
+                # ---- bending material part
                 for v in range(3):
                     _outer_add(wq * D[e, q, v], cdk[v], cdk[v], Z)
-                # ---- moments of the geometric term: law + d κ̇ + m κ̈, and ∂κ ⊗ ∂κ̇/∂u
-                for v in range(3):
-                    Mg[v] = M[e, q, v]
-                if has_c:
-                    _rate(dN[e, q], HN[e, q], ve[e], a[q], h[q], n[q], j, p,
-                          visc[0], wq, cdk, Mg, Z)
-                if has_m:
-                    _rate(dN[e, q], HN[e, q], ae[e], a[q], h[q], n[q], j, p,
-                          visc[1], wq, cdk, Mg, Z)
                 # ---- membrane geometric part N_v ∂²ε_v (identity in k, l)
                 S00, S11, S01 = wq * Nm[e, q, 0], wq * Nm[e, q, 1], wq * Nm[e, q, 2]
                 for k in range(3):
@@ -458,32 +447,32 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
                     E0[k] = t
                     _cross(a[q, 0], ek, t)
                     E1[k] = t
-                for i in range(3):
+                for i3 in range(3):
                     for k in range(3):
-                        ca3[i, 0, k] = E0[k, i]
-                        ca3[i, 1, k] = E1[k, i]
+                        ca3[i3, 0, k] = E0[k, i3]
+                        ca3[i3, 1, k] = E1[k, i3]
                 for k in range(3):
                     cAn[0, k] = E0[k, 0] * nq_[0] + E0[k, 1] * nq_[1] + E0[k, 2] * nq_[2]
                     cAn[1, k] = E1[k, 0] * nq_[0] + E1[k, 1] * nq_[1] + E1[k, 2] * nq_[2]
                     cAm[0, k] = (E0[k, 0] * m[0] + E0[k, 1] * m[1] + E0[k, 2] * m[2]) / (j * j)
                     cAm[1, k] = (E1[k, 0] * m[0] + E1[k, 1] * m[1] + E1[k, 2] * m[2]) / (j * j)
                 # m · ∂²(a3/j) [∂a3, ∂a3]
-                for i in range(3):
-                    _outer_add(-sg, ca3[i], ca3[i], Z)
+                for i3 in range(3):
+                    _outer_add(-sg, ca3[i3], ca3[i3], Z)
                 _outer_add(3.0 * sg, cAn, cAn, Z)
                 _outer_add(-1.0, cAm, cAn, Z)
                 _outer_add(-1.0, cAn, cAm, Z)
                 # (P m / j) · ∂²a3 = (N_b,1 N_c,2 − N_b,2 N_c,1) pm · (e_k × e_l)
                 for kl in range(3):
-                    k, l, i = kl, (kl + 1) % 3, (kl + 2) % 3
-                    Z[0, 1, k, l] += pm[i]
-                    Z[0, 1, l, k] -= pm[i]
-                    Z[1, 0, k, l] -= pm[i]
-                    Z[1, 0, l, k] += pm[i]
+                    k, l, i3 = kl, (kl + 1) % 3, (kl + 2) % 3
+                    Z[0, 1, k, l] += pm[i3]
+                    Z[0, 1, l, k] -= pm[i3]
+                    Z[1, 0, k, l] -= pm[i3]
+                    Z[1, 0, l, k] += pm[i3]
                 # N_b,v M_v (∂n/∂u_cl)_k and its transpose, ∂n = (I − n n) ∂a3 / j
                 for k in range(3):
-                    for i in range(3):
-                        Pm[k, i] = ((1.0 if k == i else 0.0) - nq_[k] * nq_[i]) / j
+                    for i3 in range(3):
+                        Pm[k, i3] = ((1.0 if k == i3 else 0.0) - nq_[k] * nq_[i3]) / j
                 for v in range(3):
                     mv = wq * Mg[v]
                     if mv == 0.0:
@@ -496,34 +485,43 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, order, start, csr_map
                             Z[2 + v, 1, k, l] += x1
                             Z[0, 2 + v, l, k] += x0
                             Z[1, 2 + v, l, k] += x1
+                # ---- weighted: c_K K + the laws' c_C d + c_M m on the warp and weft curvatures
+                if cK != 1.0:
+                    for s in range(5):
+                        for t5 in range(5):
+                            for k in range(3):
+                                for l in range(3):
+                                    Z[s, t5, k, l] *= cK
+                for v in range(2):
+                    _outer_add(wq * (cC * visc[0, v] + cM * visc[1, v]), cdk[v], cdk[v], Z)
                 _half(Z, phi, Wrow)
-                for v in range(2 if nr else 0):
-                    col = 2 * q + v
-                    G[col] = 0.0
-                    _add_per_dof(1.0, phi, cdk[v], G[col])
-                    if has_c:
-                        GC[col] = wq * visc[0, v] * G[col]
-                    if has_m:
-                        GM[col] = wq * visc[1, v] * G[col]
-            Kf = np.dot(Phi, Wall.reshape(5 * nq, 9 * nb)).reshape(3 * nb, 3 * nb)
-            Cf = Kf
-            Mf = Kf
-            if has_c:
-                Cf = np.dot(G.reshape(nr, 3 * nb).T, GC.reshape(nr, 3 * nb))
-            if has_m:
-                Mf = np.dot(G.reshape(nr, 3 * nb).T, GM.reshape(nr, 3 * nb))
+                # ---- membrane material part: w_p ∂ε_pᵀ C_m Σ_q Q_pq ∂ε_q, as rows s = α
+                CQde[:] = 0.0
+                for v in range(3):
+                    for x in range(3):
+                        cvx = cK * wq * C_m[v, x]
+                        if cvx == 0.0:
+                            continue
+                        for b in range(nb):
+                            for k in range(3):
+                                CQde[v, b, k] += cvx * Qde[q, x, b, k]
+                for v in range(3):
+                    for s in range(2):
+                        for k in range(3):
+                            c = cde[v, s, k]
+                            if c == 0.0:
+                                continue
+                            for b in range(nb):
+                                for l in range(3):
+                                    Wrow[s, k, b, l] += c * CQde[v, b, l]
+            Jf = np.dot(Phi, Wall.reshape(5 * nq, 9 * nb)).reshape(3 * nb, 3 * nb)
             if symmetrize:
                 for I in range(3 * nb):
                     for J in range(I + 1, 3 * nb):
-                        Kf[I, J] = Kf[J, I] = 0.5 * (Kf[I, J] + Kf[J, I])
+                        Jf[I, J] = Jf[J, I] = 0.5 * (Jf[I, J] + Jf[J, I])
             for I in range(3 * nb):
                 for J in range(3 * nb):
-                    pos = csr_map[e, I, J]
-                    Kd[pos] += Kf[I, J]
-                    if has_c:
-                        Cd[pos] += Cf[I, J]
-                    if has_m:
-                        Md[pos] += Mf[I, J]
+                    Jd[csr_map[e, I, J]] += Jf[I, J]
 
 
 @njit(cache=True, parallel=True)

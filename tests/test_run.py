@@ -55,12 +55,12 @@ class VertexOscillators:
     def force_scale(self, t):
         return self.m * G * math.sqrt(self.ndofs)      # |weight vector|
 
-    def evaluate(self, u, v, a, t, tangent=None):
+    def evaluate(self, u, v, a, t, tangent=None, weights=None):
         f = -self.load_scale * self.gravity(t) * self.m * G * np.ones(self.ndofs)
         force = self.C @ v + self.K @ u - f
         if t > self.fail_after:
             force = force * np.nan
-        return Evaluation(self.M @ a, force, *((self.K, self.C, self.M) if tangent else ()))
+        return Evaluation(self.M @ a, force, *((self.K, self.C, self.M) if tangent else ())).weighted(weights)
 
     def commit(self, u, v, a):
         self.commits += 1

@@ -31,6 +31,16 @@ class _Elastic(_Viscous):
     weft = BendingLaw(k1=0.7)
 
 
+K_ONLY = (1.0, 0.0, 0.0)
+
+
+def _parts(shell, u, v=None, a=None):
+    """Force (with the viscous moments of ``v``) and the data of K, C_law and M_law, each
+    from its own weighted pass of the tangent kernel."""
+    f, Kd = shell._internal(u, v, a, K_ONLY)
+    Cd, Md = (shell._internal(u, v, a, w)[1] for w in ((0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
+    return f, Kd, Cd, Md
+
 def _strip(nx=3, ny=2, L=1.0, b=0.5):
     mesh = MeshTri.init_tensor(np.linspace(0, L, nx + 1), np.linspace(0, b, ny + 1))
     return mesh.with_boundaries({"clamped": lambda x: x[0] < 1e-9,
@@ -92,9 +102,9 @@ def test_force_is_gradient_of_elastic_energy(assumed):
                                          membrane_stabilization=assumed[1])
     shell = KirchhoffLoveShell(_strip(), _Elastic(), gravity=0.0, **kw)
     u, rng = _large_rotation_state(shell)
-    f_only, K, C, M = shell._internal(u, need_tangent=False)
-    assert K is None and C is None and M is None
-    f_tan = shell._internal(u)[0]
+    f_only, J = shell._internal(u)
+    assert J is None
+    f_tan = shell._internal(u, weights=K_ONLY)[0]
     assert np.linalg.norm(f_tan - f_only) <= 1e-13 * np.linalg.norm(f_only)
     z = np.zeros_like(u)
     h = 1e-7          # the third derivative along a random direction is large: h² O(1e3)
@@ -105,19 +115,25 @@ def test_force_is_gradient_of_elastic_energy(assumed):
 
 
 def test_tangent_is_derivative_of_force(viscous_shell):
-    """K = ∂/∂u (f_int + C_law v + M_law a) at a large-rotation state with v, a ≠ 0 (the
+    """K = ∂/∂u (f_int + d κ̇ + M_law a) at a large-rotation state with v, a ≠ 0 (the
     viscous and curvature-inertia terms, unsymmetric), and C_law, M_law = ∂/∂v, ∂/∂a;
-    relative error of the directional derivative against central differences ≤ 1e-6."""
+    relative error of the directional derivative against central differences ≤ 1e-6. The
+    weighted pass c_K K + c_C C_law + c_M M_law equals the sum of the three (1e-13)."""
     shell = viscous_shell
     u, rng = _large_rotation_state(shell, seed=1)
     v, a = rng.standard_normal(shell.ndofs), rng.standard_normal(shell.ndofs)
     P = shell.pattern
 
     def force(x, v=v, a=a):
-        f, _, Cd, Md = shell._internal(x, v, a)
-        return f + P.from_data(Cd) @ v + P.from_data(Md) @ a
+        f, _, _, Md = _parts(shell, x, v, a)
+        return f + P.from_data(Md) @ a
 
-    f, Kd, Cd, Md = shell._internal(u, v, a)
+    f, Kd, Cd, Md = _parts(shell, u, v, a)
+    weights = (1.3, 250.0, 4.0e4)
+    f_w, Jd = shell._internal(u, v, a, weights)
+    expected = weights[0] * Kd + weights[1] * Cd + weights[2] * Md
+    assert np.abs(Jd - expected).max() <= 1e-13 * np.abs(expected).max()
+    assert np.array_equal(f_w, f)
     K = P.from_data(Kd)
     assert abs(K - K.T).max() > 1e-6 * abs(K).max()          # the viscous terms are unsymmetric
     h = 1e-6
@@ -143,14 +159,15 @@ def test_symmetric_viscous_tangent_is_the_symmetric_part(viscous_shell):
     assert sym.viscous_tangent == "symmetric" and sym.symmetric_tangent and not full.symmetric_tangent
     u, rng = _large_rotation_state(full, seed=4)
     v, a = rng.standard_normal(full.ndofs), rng.standard_normal(full.ndofs)
-    f, Kd, Cd, Md = full._internal(u, v, a)
-    f_s, Kd_s, Cd_s, Md_s = sym._internal(u, v, a)
+    f, Kd, Cd, Md = _parts(full, u, v, a)
+    f_s, Kd_s, Cd_s, Md_s = _parts(sym, u, v, a)
     K = full.pattern.from_data(Kd)
     K_s = sym.pattern.from_data(Kd_s)
     assert abs(K_s - 0.5 * (K + K.T)).max() <= 1e-13 * abs(K).max()
     assert abs(K_s - K).max() > 1e-6 * abs(K).max()
-    for new, ref in ((f_s, f), (Cd_s, Cd), (Md_s, Md)):
-        assert np.array_equal(new, ref)
+    assert np.array_equal(f_s, f)
+    for new, ref in ((Cd_s, Cd), (Md_s, Md)):   # symmetric already: the same to round-off
+        assert np.abs(new - ref).max() <= 1e-13 * np.abs(ref).max()
 
 
 def test_viscous_tangent_choice_is_checked():
@@ -162,7 +179,7 @@ def test_elastic_tangent_is_symmetric(viscous_shell):
     """Without rates the tangent is the Hessian of an energy: symmetric to 1e-12."""
     shell = viscous_shell
     u, _ = _large_rotation_state(shell, seed=2)
-    K = shell.pattern.from_data(shell._internal(u)[1])
+    K = shell.pattern.from_data(shell._internal(u, weights=K_ONLY)[1])
     assert abs(K - K.T).max() <= 1e-12 * abs(K).max()
 
 
@@ -181,7 +198,7 @@ def test_kernels_match_vectorised_first_variations(viscous_shell):
     de, dk = kp.strain_variation(), kp.curvature_variation()
     fe = np.einsum("eqvI,eqv,eq->eI", de, Nm, shell.w) + np.einsum("eqvI,eqv,eq->eI", dk, M, shell.w)
     f_ref = shell.pattern.vector(fe)
-    f, _, Cd, Md = shell._internal(u, v, v)
+    f, _, Cd, Md = _parts(shell, u)
     assert np.linalg.norm(f - f_ref) <= 1e-12 * np.linalg.norm(f_ref)
     for data, k in ((Cd, 0), (Md, 1)):
         coef = shell._viscosity()[k]
@@ -197,7 +214,7 @@ def test_linear_stiffness_is_tangent_at_rest(viscous_shell):
     """The flat state's stiffness is the tangent at u = 0 with the laws' k1 (1e-13)."""
     shell = viscous_shell
     K0 = shell.linear_stiffness()
-    Kd = shell._internal(np.zeros(shell.ndofs), elastic_tangent=True)[1]
+    Kd = shell._internal(np.zeros(shell.ndofs), weights=K_ONLY, elastic_tangent=True)[1]
     assert np.abs(K0.data - Kd).max() <= 1e-13 * np.abs(Kd).max()
 
 
@@ -205,9 +222,9 @@ def test_friction_tangent_choice_is_checked():
     shell = KirchhoffLoveShell(_strip(), ElasticMaterial(1.0, 1e3), gravity=0.0)
     u = np.zeros(shell.ndofs)
     with pytest.raises(ShellInputError, match="friction_tangent"):
-        shell._internal(u, friction_tangent="secant")
-    K1 = shell._internal(u, friction_tangent="nonnegative")[1]
-    assert np.array_equal(K1, shell._internal(u)[1])     # elastic law: the same tangent
+        shell._internal(u, weights=K_ONLY, friction_tangent="secant")
+    K1 = shell._internal(u, weights=K_ONLY, friction_tangent="nonnegative")[1]
+    assert np.array_equal(K1, shell._internal(u, weights=K_ONLY)[1])     # elastic law: the same tangent
 
 
 # ---------------------------------------------------------------- quadrature
@@ -291,6 +308,29 @@ def test_force_only_evaluation_equals_the_tangent_pass(viscous_shell):
         x, y = getattr(fast, name), getattr(full, name)
         assert np.linalg.norm(x - y) <= 1e-12 * np.linalg.norm(y), name
     assert not shell.symmetric_tangent          # viscous terms make K unsymmetric
+
+
+def test_step_matrix_is_the_weighted_sum_of_K_C_and_M(viscous_shell):
+    """evaluate(..., weights) assembles c_K K + c_C C + c_M M in one pass: the same matrix as
+    the sum of the separately assembled K, C (Rayleigh damping + the law's viscosity) and M
+    (mass + curvature inertia) to 1e-13, with the same forces; weights without K (the start's
+    M) skip the kernel where no law term needs it."""
+    shell = viscous_shell
+    shell.rayleigh = (3.0, 1e-3)
+    u, rng = _large_rotation_state(shell, seed=5)
+    v, a = rng.standard_normal(shell.ndofs), rng.standard_normal(shell.ndofs)
+    try:
+        apart = shell.evaluate(u, v, a, 0.3, "consistent")
+        for w in ((1.1, 210.0, 3.3e4), (0.0, 0.0, 1.0), (0.0, 1.0, 0.0)):
+            ev = shell.evaluate(u, v, a, 0.3, "consistent", w)
+            assert ev.K is None and ev.C is None and ev.M is None
+            expected = w[0] * apart.K + w[1] * apart.C + w[2] * apart.M
+            assert abs(ev.J - expected).max() <= 1e-13 * abs(expected).max(), w
+            for name in ("inertia", "force"):
+                x, y = getattr(ev, name), getattr(apart, name)
+                assert np.linalg.norm(x - y) <= 1e-13 * np.linalg.norm(y), (w, name)
+    finally:
+        shell.rayleigh = (0.0, 0.0)
 
 
 def test_mass_and_damping_products_drop_only_stored_zeros(viscous_shell):
