@@ -54,6 +54,7 @@ True
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -128,7 +129,8 @@ class StepInfo:
     """Record of one converged (or failed) step.
 
     ``iterations``, ``evaluations`` (force evaluations, with or without tangent) and
-    ``factorizations`` count every Newton attempt of the step, failed ones included;
+    ``factorizations`` count every Newton attempt of the step, failed ones included (also
+    those at the longer sizes cut or refused before it);
     ``cuts`` is the number of failed attempts at shorter or retried sizes, ``rejected``
     the number of sizes the error estimate refused; ``error`` the estimate of the step;
     ``rescued`` is True when it converged only from the fallback start or with a fallback
@@ -153,11 +155,16 @@ class StepInfo:
 
     def absorb(self, result) -> None:
         """Add a :class:`drape.newton.NewtonResult`'s counts and keep its norms and tangent."""
-        self.iterations += result.iterations
-        self.evaluations += result.evaluations
-        self.factorizations += result.factorizations
+        self.add_counts(result)
         self.tangent = result.tangent
         self.residual_norms, self.increment_norms = result.residual_norms, result.increment_norms
+
+    def add_counts(self, other) -> None:
+        """Add the iterations, evaluations and factorizations of ``other`` (a Newton result, or
+        the info of an attempt at this step that failed or was refused before)."""
+        self.iterations += other.iterations
+        self.evaluations += other.evaluations
+        self.factorizations += other.factorizations
 
 
 def _newmark_coefficients(beta, gamma, alpha_hht):
@@ -385,8 +392,17 @@ def newmark_step(model, state: NewmarkState, dt: float, beta=None, gamma=None, a
     return _solve_step(problem, predictor, tol, policy, solver)
 
 
-def _solve_step(problem: _StepProblem, predictor, tol, policy, solver):
+def _solve_step(problem: _StepProblem, predictor, tol, policy, solver, fallbacks: bool = True):
+    """Newton from the chosen start(s), with the policy's tangents in turn. Without
+    ``fallbacks`` only the policy's first tangent is tried: the fallback tangents (the friction
+    law's stick tangent) converge slowly, and while the caller can still cut the step, half a
+    step costs less than the long runs they add. The other start is always tried (when near
+    balance): a full Newton run that lands where the first one stalls, e.g. at the residual's
+    round-off floor, which a shorter step only raises (``M a`` grows as 1/Δt²)."""
     info = StepInfo(t=problem.t1, dt=problem.dt)
+    if not fallbacks:
+        policy = NewtonPolicy() if policy is None else policy
+        policy = dataclasses.replace(policy, tangents=policy.tangents[:1])
     if predictor == "auto":
         # start where the residual is smaller: the constant-acceleration extrapolation while the
         # motion is smooth, u₁ = u₀ where it is not (a fold forming, a friction reversal)
@@ -426,9 +442,13 @@ class _StepSize:
             self.h = float(np.clip(control.dt, self.h_min, dt_max))
             self.successes = int(control.successes)
 
+    def can_cut(self) -> bool:
+        """Whether a failed step can still be halved."""
+        return self.h > self.h_min * (1 + 1e-12)
+
     def failed(self) -> bool:
         """Halve after a Newton failure; False when already at the smallest size."""
-        if self.h <= self.h_min * (1 + 1e-12):
+        if not self.can_cut():
             return False
         self.h, self.successes = max(0.5 * self.h, self.h_min), 0
         return True
@@ -470,7 +490,8 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
     Each converged step is committed (``model.commit``) and passed to
     ``on_step(state, info)``; a callback returning ``True`` stops the run after
     that step. On a Newton failure the step is halved and retried from the last
-    converged state, down to ``dt / 2**max_cuts``. The step then grows back: doubled
+    converged state, down to ``dt / 2**max_cuts``; only there does a step try the policy's
+    fallback tangents (a cut is the cheaper remedy while one is left). The step then grows back: doubled
     after ``grow_after`` consecutive successes up to ``dt_max`` (default ``dt``;
     beyond ``dt`` it is pseudo-transient continuation: a fabric creeping into
     equilibrium under constant loads needs ever fewer, longer steps), or, with
@@ -505,6 +526,7 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
     eps = 1e-12 * max(abs(t_end), dt)
     hits = sorted(float(t) for t in hit_times if state.t + eps < t <= t_end - eps)
     step, cuts, rejected = 0, 0, 0
+    spent = []      # attempts at the coming step that failed or were refused: their counts join it
     bar = None
     if progress:
         from tqdm import tqdm
@@ -522,9 +544,10 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
                 h = limit - state.t
             problem = _StepProblem(model, state, h, coefficients, restrict)
             try:
-                new, info = _solve_step(problem, predictor, tol, policy, solver)
+                new, info = _solve_step(problem, predictor, tol, policy, solver, fallbacks=not size.can_cut())
             except ConvergenceError as err:
                 cuts += 1
+                spent.append(err.info)
                 if not size.failed():
                     raise ConvergenceError(
                         f"integration stopped at t = {state.t:.6g} s: the step failed at the smallest allowed "
@@ -533,11 +556,15 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
             info.error = size.error(state, new, coefficients[0])
             if not size.accept(info.error, h, landed and h < size.h):
                 rejected += 1
+                spent.append(info)
                 continue
+            for attempt in spent:
+                info.add_counts(attempt)
             model.commit(new.u, new.v, new.a)
             step += 1
             info.step, info.cuts, info.rejected = step, cuts, rejected
             cuts = rejected = 0
+            spent = []
             if bar is not None:
                 bar.update(new.t - state.t)
             state = new

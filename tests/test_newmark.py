@@ -254,6 +254,32 @@ def test_a_step_converged_only_by_a_fallback_is_marked_rescued():
     assert summary["rescued_steps"] == 1 and summary["ldlt_factorizations"] == 0
 
 
+def test_cut_before_fallbacks_and_every_attempt_counted():
+    """A step whose attempts from both starts fail is cut, not retried with the stick tangent
+    (the cut is the cheaper remedy while one is left), and the converged half step carries
+    the failed attempts' counts: the steps' factorizations add up to the solver's own count."""
+    from drape.newton import NewtonPolicy
+
+    failed_calls = []
+
+    def once(model, t):                     # the fifth step, 0.08 -> 0.10 s, fails
+        failing = len(model.committed) == 5 and t > 0.1 - 1e-9
+        failed_calls.extend([t] if failing else [])
+        return failing
+
+    model = Oscillator(k3=5.0, fail=once)
+    solver = DirectSolver(symmetric=True)
+    infos = []
+    state = NewmarkState(0.0, np.array([0.3]), np.array([0.0]), np.array([-model.k * 0.3 - 5.0 * 0.027]))
+    integrate(model, 0.12, 0.02, state, linear_solver=solver, policy=NewtonPolicy(tangents=("consistent", "stick")),
+              on_step=lambda s, info: infos.append(info))
+    cut = [info for info in infos if info.cuts]
+    assert len(cut) == 1 and cut[0].t == pytest.approx(0.09) and cut[0].dt == pytest.approx(0.01)
+    assert not any(info.rescued for info in infos)
+    assert len(failed_calls) == 4           # the two starts' residuals, a Newton attempt from each
+    assert sum(info.factorizations for info in infos) == solver.factorizations
+
+
 def test_symmetric_viscous_tangent_gives_the_same_path():
     """A hanging strip with a viscous law (d/k1 = 1 s) in large rotation: Newton on the
     symmetric part of K (LDLᵀ) and on the exact, unsymmetric K (LU) reach the same states to
