@@ -711,11 +711,11 @@ class KirchhoffLoveShell:
              + self.weft_state.friction_work(kappa[..., 1])) * self.w))
         if v is not None:
             v = np.asarray(v, dtype=float)
-            C = self._rayleigh_damping()
+            self._rayleigh_damping()
             Md = self._viscous_moments(u, v)
             if self._v_committed is not None:
                 du = u - self._u_committed
-                self._damping_work += float(0.5 * (C @ v + C @ self._v_committed) @ du)
+                self._damping_work += float(0.5 * (self._C0_product @ (v + self._v_committed)) @ du)
                 # the law's own viscosity: ∫ ½ (d κ̇_old + d κ̇_new) Δκ
                 self._damping_work += float(np.einsum(
                     "eqv,eq->", 0.5 * (Md + self._Md_committed) * dk, self.w))
