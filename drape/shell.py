@@ -466,10 +466,9 @@ class KirchhoffLoveShell:
         visc = self._viscosity()
         Jd = None
         if weights is None:
-            if v is not None and np.any(visc[0]):
-                M = M.copy()
-                M[..., :2] += self._rate_moments(ue, v, visc[0])
-            kernels.internal_force(ue, self.dN, self.HN, self.w, Nm, np.ascontiguousarray(M), fe)
+            d = visc[0] if v is not None else np.zeros(2)
+            ve = self._element_values(v) if np.any(d) else ue
+            kernels.internal_force(ue, ve, self.dN, self.HN, self.w, Nm, np.ascontiguousarray(M), d, fe)
         else:
             ve = ue * 0.0 if v is None else self._element_values(v)
             ae = ue * 0.0 if a is None else self._element_values(a)
@@ -493,13 +492,6 @@ class KirchhoffLoveShell:
                         bool(np.any(visc)) and self._symmetrize_rates())
         return Jd
 
-    def _rate_moments(self, ue, x, coefficients):
-        """``c κ̇`` (warp, weft), (E, q, 2), of the rate field ``x`` for ``coefficients`` (c_warp, c_weft)."""
-        rate = np.empty(self.w.shape + (3,))
-        kernels.use_threads(len(ue))
-        kernels.curvature_rate(ue, self._element_values(x), self.dN, self.HN, rate)
-        return coefficients * rate[..., :2]
-
     def _law_inertia(self, u, a):
         """The laws' curvature-inertia force ``M_law a = ∫ ∂κᵀ m κ̈`` (0.0 without it)."""
         m = self._viscosity()[1]
@@ -507,10 +499,10 @@ class KirchhoffLoveShell:
             return 0.0
         t0 = time.perf_counter()
         ue = self._element_values(u)
-        moments = np.zeros(self.w.shape + (3,))
-        moments[..., :2] = self._rate_moments(ue, a, m)
+        zero = np.zeros(self.w.shape + (3,))
         fe = np.empty((len(ue), 3 * self.nb))
-        kernels.internal_force(ue, self.dN, self.HN, self.w, np.zeros_like(moments), moments, fe)
+        kernels.use_threads(len(ue))
+        kernels.internal_force(ue, self._element_values(a), self.dN, self.HN, self.w, zero, zero, m, fe)
         self.seconds["assembly"] += time.perf_counter() - t0
         return self.pattern.vector(fe)
 
@@ -752,7 +744,10 @@ class KirchhoffLoveShell:
         d = self._viscosity()[0]
         if not np.any(d):
             return np.zeros(self.w.shape + (2,))
-        return self._rate_moments(self._element_values(u), v, d)
+        rate = np.empty(self.w.shape + (3,))
+        kernels.use_threads(len(self.edofs))
+        kernels.curvature_rate(self._element_values(u), self._element_values(v), self.dN, self.HN, rate)
+        return d * rate[..., :2]
 
     def _membrane_strain(self, eps):
         """``Q eps`` (e, q, ...), whose forces ``C_m Q eps`` the membrane carries: the

@@ -194,13 +194,43 @@ def _add_per_dof(scale, phi, c, out):
             out[b, k] += scale * acc
 
 
-@njit(cache=True, parallel=True)
-def internal_force(ue, dN, HN, w, Nm, M, fe):
-    """Element internal forces ``∫ ∂εᵀ N + ∂κᵀ M``, (E, 3 nb) into ``fe``.
+@njit(cache=True)
+def _kappa_rate(dN, HN, x, a, h, n, j, ad, hd, a3d, nd, kdot):
+    """Rates at a point of the field ``x`` (E-local coefficients (nb, 3)): ``ȧ_α`` into
+    ``ad``, ``ḣ_v`` into ``hd``, ``ȧ3`` into ``a3d``, ``ṅ`` into ``nd`` and the curvature rate
+    ``κ̇_v = ḣ_v · n + h_v · ṅ`` into ``kdot``; returns ``n · ȧ3``."""
+    nb = dN.shape[0]
+    ad[:] = 0.0
+    hd[:] = 0.0
+    for b in range(nb):
+        for k in range(3):
+            ad[0, k] += dN[b, 0] * x[b, k]
+            ad[1, k] += dN[b, 1] * x[b, k]
+            for v in range(3):
+                hd[v, k] += HN[b, v] * x[b, k]
+    # ȧ3 = ȧ1 × a2 + a1 × ȧ2, built in place from its two cross products
+    a3d[0] = ad[0, 1] * a[1, 2] - ad[0, 2] * a[1, 1] + a[0, 1] * ad[1, 2] - a[0, 2] * ad[1, 1]
+    a3d[1] = ad[0, 2] * a[1, 0] - ad[0, 0] * a[1, 2] + a[0, 2] * ad[1, 0] - a[0, 0] * ad[1, 2]
+    a3d[2] = ad[0, 0] * a[1, 1] - ad[0, 1] * a[1, 0] + a[0, 0] * ad[1, 1] - a[0, 1] * ad[1, 0]
+    na3 = n[0] * a3d[0] + n[1] * a3d[1] + n[2] * a3d[2]
+    for k in range(3):
+        nd[k] = (a3d[k] - na3 * n[k]) / j
+    for v in range(3):
+        kdot[v] = (hd[v, 0] * n[0] + hd[v, 1] * n[1] + hd[v, 2] * n[2]
+                   + h[v, 0] * nd[0] + h[v, 1] * nd[1] + h[v, 2] * nd[2])
+    return na3
 
-    ``Nm`` (E, q, 3) membrane forces, ``M`` (E, q, 3) moments (Voigt).
+
+@njit(cache=True, parallel=True)
+def internal_force(ue, xe, dN, HN, w, Nm, M, c, fe):
+    """Element internal forces ``∫ ∂εᵀ N + ∂κᵀ (M + c κ̇)``, (E, 3 nb) into ``fe``.
+
+    ``Nm`` (E, q, 3) membrane forces, ``M`` (E, q, 3) moments (Voigt), ``c`` (2,) the
+    coefficients (warp, weft) of the curvature rate of the element field ``xe`` (the laws'
+    viscosity with the velocity; skipped where both are 0).
     """
     E, nq, nb = dN.shape[0], dN.shape[1], dN.shape[2]
+    rates = c[0] != 0.0 or c[1] != 0.0
     for e in prange(E):
         a = np.empty((2, 3))
         h = np.empty((3, 3))
@@ -211,16 +241,25 @@ def internal_force(ue, dN, HN, w, Nm, M, fe):
         F = np.empty((5, 3))
         phi = np.empty((5, nb))
         t = np.empty(3)
+        work = np.empty((8, 3))
+        Mq = np.empty(3)
         fe[e] = 0.0
         for q in range(nq):
             j = _point(dN[e, q], HN[e, q], ue[e], a, h, n)
             _variations(a, h, n, j, cde, cdk, p, t)
             _phi(dN[e, q], HN[e, q], phi)
+            for v in range(3):
+                Mq[v] = M[e, q, v]
+            if rates:
+                _kappa_rate(dN[e, q], HN[e, q], xe[e], a, h, n, j, work[0:2], work[2:5], work[5],
+                            work[6], work[7])
+                Mq[0] += c[0] * work[7, 0]
+                Mq[1] += c[1] * work[7, 1]
             F[:] = 0.0
             for v in range(3):
                 for s in range(5):
                     for k in range(3):
-                        F[s, k] += Nm[e, q, v] * cde[v, s, k] + M[e, q, v] * cdk[v, s, k]
+                        F[s, k] += Nm[e, q, v] * cde[v, s, k] + Mq[v] * cdk[v, s, k]
             _add_per_dof(w[e, q], phi, F, fe[e].reshape(nb, 3))
 
 
@@ -228,33 +267,17 @@ def internal_force(ue, dN, HN, w, Nm, M, fe):
 def _rate(dN, HN, x, a, h, n, j, p, visc_v, wq, cdk, Mg, Z, work):
     """Curvature rate of the field ``x`` and, with ``visc_v`` = (c_warp, c_weft), the
     moments ``c κ̇`` added to ``Mg`` and ``w c ∂κ ⊗ ∂κ̇/∂u`` added to ``Z``; ``work`` is
-    (15, 3) scratch."""
-    nb = dN.shape[0]
-    ad, hd, t1, t2, a3d, nd, y, cg = (work[0:2], work[2:5], work[5], work[6], work[7], work[8],
-                                      work[9], work[10:15])
-    ad[:] = 0.0
-    hd[:] = 0.0
-    for b in range(nb):
-        for k in range(3):
-            ad[0, k] += dN[b, 0] * x[b, k]
-            ad[1, k] += dN[b, 1] * x[b, k]
-            for v in range(3):
-                hd[v, k] += HN[b, v] * x[b, k]
-    _cross(ad[0], a[1], t1)
-    _cross(a[0], ad[1], t2)
-    for k in range(3):
-        a3d[k] = t1[k] + t2[k]
-    na3 = n[0] * a3d[0] + n[1] * a3d[1] + n[2] * a3d[2]
-    for k in range(3):
-        nd[k] = (a3d[k] - na3 * n[k]) / j
+    (16, 3) scratch."""
+    ad, hd, a3d, nd, kd, y, t1, t2, cg = (work[0:2], work[2:5], work[5], work[6], work[7], work[8],
+                                          work[9], work[10], work[11:16])
+    na3 = _kappa_rate(dN, HN, x, a, h, n, j, ad, hd, a3d, nd, kd)
     for v in range(2):
         if visc_v[v] == 0.0:
             continue
         hn = h[v, 0] * n[0] + h[v, 1] * n[1] + h[v, 2] * n[2]
         ha3 = h[v, 0] * a3d[0] + h[v, 1] * a3d[1] + h[v, 2] * a3d[2]
         hdn = hd[v, 0] * n[0] + hd[v, 1] * n[1] + hd[v, 2] * n[2]
-        kdot = hdn + h[v, 0] * nd[0] + h[v, 1] * nd[1] + h[v, 2] * nd[2]
-        Mg[v] += visc_v[v] * kdot
+        Mg[v] += visc_v[v] * kd[v]
         # ∂κ̇_v/∂u = h_v · ∂²n [∂u, ẋ] + ḣ_v · ∂n + ∂h_v · ṅ: every ∂a3 term is one vector y
         for k in range(3):
             y[k] = ((-na3 * h[v, k] - ha3 * n[k] - hn * a3d[k] + 3.0 * hn * na3 * n[k]) / (j * j)
@@ -390,7 +413,7 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, weights, order, start
             Mf = np.empty(3)
             F = np.empty((5, 3))
             t3 = np.empty(3)
-            work = np.empty((15, 3))
+            work = np.empty((16, 3))
             fe[e] = 0.0
             for q in range(nq):
                 j = jq[q]
@@ -527,31 +550,13 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, weights, order, start
 @njit(cache=True, parallel=True)
 def curvature_rate(ue, xe, dN, HN, out):
     """Curvature rate ``κ̇ = ∂κ/∂u · ẋ`` (Voigt, (E, q, 3)) of the element rate ``xe``."""
-    E, nq, nb = dN.shape[0], dN.shape[1], dN.shape[2]
+    E, nq = dN.shape[0], dN.shape[1]
     for e in prange(E):
         a = np.empty((2, 3))
         h = np.empty((3, 3))
         n = np.empty(3)
-        t1 = np.empty(3)
-        t2 = np.empty(3)
+        work = np.empty((7, 3))
         for q in range(nq):
             j = _point(dN[e, q], HN[e, q], ue[e], a, h, n)
-            ad = np.zeros((2, 3))
-            hd = np.zeros((3, 3))
-            for b in range(nb):
-                for k in range(3):
-                    x = xe[e, b, k]
-                    ad[0, k] += dN[e, q, b, 0] * x
-                    ad[1, k] += dN[e, q, b, 1] * x
-                    for v in range(3):
-                        hd[v, k] += HN[e, q, b, v] * x
-            _cross(ad[0], a[1], t1)
-            _cross(a[0], ad[1], t2)
-            for k in range(3):
-                t1[k] += t2[k]
-            na3 = n[0] * t1[0] + n[1] * t1[1] + n[2] * t1[2]
-            for v in range(3):
-                acc = 0.0
-                for k in range(3):
-                    acc += hd[v, k] * n[k] + h[v, k] * (t1[k] - na3 * n[k]) / j
-                out[e, q, v] = acc
+            _kappa_rate(dN[e, q], HN[e, q], xe[e], a, h, n, j, work[0:2], work[2:5], work[5], work[6],
+                        out[e, q])
