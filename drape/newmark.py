@@ -2,7 +2,8 @@
 
 The integrator knows a model only through :class:`drape.model.StructuralModel`:
 ``ndofs``, ``fixed_dofs``, ``prescribed(t)``, ``lifting(t)``, ``force_scale(t)``,
-``symmetric_tangent``, ``evaluate(u, v, a, t, tangent) -> Evaluation`` and
+``symmetric_tangent``, ``evaluate(u, v, a, t, tangent, weights) -> Evaluation`` (a step
+asks for the one matrix it factorises, ``J = c_K K + c_C C + c_M M``) and
 ``commit(u, v, a)`` (``load_scale`` for :func:`quasi_static`).
 
 With a lifting ``(u_p, v_p, a_p)`` (a full-size field carrying the imposed motion

@@ -528,7 +528,8 @@ class KirchhoffLoveShell:
         D = np.empty_like(zero)
         D[...] = [self.warp_law.k1, self.weft_law.k1, 0.5 * self.twist]
         fe = np.empty((len(ue), 3 * self.nb))
-        return self.pattern.from_data(self._tangent(ue, ue, ue, zero, zero, D, np.zeros((2, 2)), (1.0, 0.0, 0.0), fe))
+        Kd = self._tangent(ue, ue, ue, zero, zero, D, np.zeros((2, 2)), (1.0, 0.0, 0.0), fe)
+        return self.pattern.from_data(Kd)
 
     def _edge_terms(self, u, t):
         """External edge force vector and the follower-moment load stiffness."""
