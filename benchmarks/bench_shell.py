@@ -10,7 +10,10 @@ timed for
 3. the force with a Newmark step's matrix ``c_K K + c_C C_law + c_M M_law``,
    ``_internal(u, v, a, weights)``;
 4. the whole ``evaluate`` of a step (plus Rayleigh damping, mass, external loads; the
-   step's matrix as CSR).
+   step's matrix as CSR);
+5. the step matrix's restriction to the free dofs (upper triangle, as the symmetric solver
+   takes it): :class:`drape.linsolve.FreeRestriction`'s gather on every core, and the same
+   gather by ``np.take`` for comparison.
 
 The first call compiles the kernels (or loads them from numba's cache) and is reported
 apart. Threads follow ``NUMBA_NUM_THREADS``.
@@ -27,6 +30,7 @@ import numba
 import numpy as np
 
 from constitutive.material import load_material
+from drape.linsolve import FreeRestriction
 from drape.shell import KirchhoffLoveShell
 from meshes import cusick_annulus
 
@@ -79,11 +83,17 @@ def main(argv=None):
         _, kappa = shell.qp_state(u)
         shell._moments(kappa)
 
+    J = shell.evaluate(u, v, a, 0.5, "consistent", STEP_WEIGHTS).J
+    restrict = FreeRestriction(np.setdiff1d(np.arange(shell.ndofs), shell.fixed_dofs), upper=True)
+    restrict(J)
+
     rows = [("kinematics + law trial", law),
             ("force only", lambda: shell._internal(u, v)),
             ("force + step matrix (kernel)", lambda: shell._internal(u, v, a, STEP_WEIGHTS)),
             ("evaluate (R, step matrix as CSR)",
-             lambda: shell.evaluate(u, v, a, 0.5, "consistent", STEP_WEIGHTS))]
+             lambda: shell.evaluate(u, v, a, 0.5, "consistent", STEP_WEIGHTS)),
+            ("restriction to the free dofs", lambda: restrict(J)),
+            ("  the same gather by np.take", lambda: np.take(J.data, restrict._map))]
     for name, fun in rows:
         t = timeit(fun, args.repeat)
         print(f"  {name:40s} : {t:9.4f} s")
