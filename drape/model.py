@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
 import numpy as np
+import scipy.sparse as sp
 
 __all__ = ["StructuralModel", "Evaluation"]
 
@@ -57,12 +58,22 @@ class Evaluation:
 
     def weighted(self, weights) -> "Evaluation":
         """This evaluation with ``J = c_K K + c_C C + c_M M`` in place of ``K, C, M``, for a model
-        that assembles the three apart; ``weights`` None or no tangent: itself."""
+        that assembles the three apart; ``weights`` None or no tangent: itself.
+
+        Matrices on one CSR pattern are summed by their data, so ``J`` keeps that pattern
+        (a sparse sum would drop entries that cancel, and a solver re-analyses a new pattern).
+        """
         if weights is None or self.K is None:
             return self
-        J = sum((c * A for c, A in zip(weights[1:], (self.C, self.M)) if A is not None and c != 0.0),
-                weights[0] * self.K)
-        return Evaluation(self.inertia, self.force, J=J.tocsr())
+        terms = [(float(c), sp.csr_matrix(A)) for c, A in zip(weights, (self.K, self.C, self.M))
+                 if A is not None and (c != 0.0 or A is self.K)]
+        K = terms[0][1]
+        if all(A.shape == K.shape and np.array_equal(A.indptr, K.indptr) and np.array_equal(A.indices, K.indices)
+               for _, A in terms[1:]):
+            J = sp.csr_matrix((sum(c * A.data for c, A in terms), K.indices, K.indptr), shape=K.shape)
+        else:
+            J = sum((c * A for c, A in terms[1:]), terms[0][0] * K).tocsr()
+        return Evaluation(self.inertia, self.force, J=J)
 
 
 @runtime_checkable
