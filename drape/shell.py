@@ -331,9 +331,7 @@ class KirchhoffLoveShell:
         self._t_last = 0.0
         self.seconds = {"law": 0.0, "assembly": 0.0}
         self._K0 = self.linear_stiffness()
-        self._C0, self._C0_key = None, None   # αM + βK0, built on first use
-        self._C0_product = None
-        self._constant, self._constant_key = None, None   # c_C C0 + c_M M of the last step size
+        self._C0_product, self._C0_key = None, None   # αM + βK0 without stored zeros, per (α, β)
         self._friction_work = self._damping_work = 0.0
         self._u_committed, self._v_committed = zero.copy(), zero.copy()   # at rest
         self._kappa_committed = np.zeros(self.w.shape + (3,))
@@ -444,7 +442,7 @@ class KirchhoffLoveShell:
             Tangent of the friction moment passed to the laws' ``trial``; None: the
             shell's ``friction_tangent``.
         base : ndarray, optional
-            CSR data the weighted tangent is added to (copied; default zeros).
+            CSR data the weighted tangent is added to, in place (default: zeros).
 
         Returns
         -------
@@ -480,8 +478,8 @@ class KirchhoffLoveShell:
 
     def _tangent(self, ue, ve, ae, Nm, M, D, visc, weights, fe, base=None):
         """Run the tangent kernel: element forces into ``fe``; the data of
-        ``c_K K + c_C C_law + c_M M_law`` (added to a copy of ``base``) returned."""
-        Jd = np.zeros(self.pattern.nnz) if base is None else base.copy()
+        ``c_K K + c_C C_law + c_M M_law`` (added to ``base`` in place) returned."""
+        Jd = np.zeros(self.pattern.nnz) if base is None else base
         Q = np.eye(self.w.shape[1]) if self.strain_projection is None else self.strain_projection
         order, start = self._colours
         kernels.use_threads(len(ue))
@@ -628,9 +626,8 @@ class KirchhoffLoveShell:
         fe, Kl = self._edge_terms(u, t)
         lam = self.load_scale
         f_ext = lam * (self._dead_surface_force(t) + fe)
-        self._rayleigh_damping()
         inertia = self._M_product @ a + self._law_inertia(u, a)
-        force = self._C0_product @ v - f_ext
+        force = self._damping_product() @ v - f_ext
         if tangent is None:
             return Evaluation(inertia, force + self._internal(u, v)[0])
         if weights is not None:
@@ -645,35 +642,30 @@ class KirchhoffLoveShell:
 
     def _weighted(self, u, v, a, weights, tangent, Kl):
         """Internal force (None when the pass is skipped) and the data of
-        ``c_K K + c_C C + c_M M``: the kernel's weighted tangent on the constant part
+        ``c_K K + c_C C + c_M M``: the kernel's weighted tangent added to the constant part
         ``c_C (α M + β K0) + c_M M``. Without a K or law term no kernel runs."""
         cK, cC, cM = (float(c) for c in weights)
-        base = self._constant_part(cC, cM)
+        alpha, beta = self.rayleigh
+        base = (cC * alpha + cM) * self._M.data      # a new array, which the kernel adds to
+        if cC * beta != 0.0:
+            base += cC * beta * self._K0.data
         visc = self._viscosity()
         if cK == 0.0 and not np.any(cC * visc[0] + cM * visc[1]):
-            return None, base.copy()
+            return None, base
         fint, Jd = self._internal(u, v, a, (cK, cC, cM), friction_tangent=tangent, base=base)
         if Kl is not None and cK != 0.0:
             Jd += cK * self.load_scale * Kl
         return fint, Jd
 
-    def _constant_part(self, cC, cM):
-        """CSR data of ``c_C (α M + β K0) + c_M M``, kept for the last pair (a run's step
-        size changes rarely)."""
-        key = (cC, cM, self.rayleigh)
-        if self._constant_key != key:
-            self._constant = cC * self._rayleigh_damping().data + cM * self._M.data
-            self._constant_key = key
-        return self._constant
-
-    def _rayleigh_damping(self):
-        """``α M + β K0`` on the shell's pattern, built once per pair ``(α, β)``."""
+    def _damping_product(self):
+        """``C0 = α M + β K0`` without its stored zeros (:func:`_without_zeros`), for the
+        products ``C0 v``; built once per pair ``(α, β)``."""
         if self._C0_key != self.rayleigh:
             alpha, beta = self.rayleigh
-            self._C0 = self.pattern.from_data(alpha * self._M.data + beta * self._K0.data)
-            self._C0_product = _without_zeros(self._C0)
+            C0 = self.pattern.from_data(alpha * self._M.data + beta * self._K0.data)
+            self._C0_product = _without_zeros(C0)
             self._C0_key = self.rayleigh
-        return self._C0
+        return self._C0_product
 
     def residual(self, u, v, a, t):
         """``R = M a + C v + f_int(u) − f_ext(u, t)`` and ``(K, C, M)`` (:meth:`evaluate` with
@@ -704,11 +696,10 @@ class KirchhoffLoveShell:
              + self.weft_state.friction_work(kappa[..., 1])) * self.w))
         if v is not None:
             v = np.asarray(v, dtype=float)
-            self._rayleigh_damping()
             Md = self._viscous_moments(u, v)
             if self._v_committed is not None:
                 du = u - self._u_committed
-                self._damping_work += float(0.5 * (self._C0_product @ (v + self._v_committed)) @ du)
+                self._damping_work += float(0.5 * (self._damping_product() @ (v + self._v_committed)) @ du)
                 # the law's own viscosity: ∫ ½ (d κ̇_old + d κ̇_new) Δκ
                 self._damping_work += float(np.einsum(
                     "eqv,eq->", 0.5 * (Md + self._Md_committed) * dk, self.w))
