@@ -202,23 +202,33 @@ def test_symmetric_and_general_factorizations_give_the_same_path_with_one_analys
 
 
 def test_auto_predictor_falls_back_only_to_a_start_near_balance():
-    """A Newton budget of one iteration fails every start of a stiff cubic oscillator. Swinging
-    through u = 0 (v = 6, Δt = 0.01) the constant-acceleration start is more than 100 times
-    closer to balance than u₁ = u₀, which is then not tried; released from u = 1 at rest
-    (Δt = 0.2) both starts are comparable and both are tried."""
-    from drape.newmark import FALLBACK_RATIO
+    """A Newton budget of one iteration fails every start of a stiff cubic oscillator; "auto"
+    starts from u₁ = u₀ and tries constant acceleration after it only when that start's
+    residual is at most 100 times u₁ = u₀'s. Swinging through u = 0 (v = 6, Δt = 0.01) the
+    second start is far closer, released from u = 1 at rest (Δt = 0.2) comparable: both are
+    tried. Released at Δt = 2 it overshoots to u ≈ −100, and is not tried."""
+    from drape.newmark import FALLBACK_RATIO, _Restrictions, _StepProblem, _newmark_coefficients
 
-    tried = {}
-    for label, (u, v, dt) in {"swing": (0.0, 6.0, 0.01), "release": (1.0, 0.0, 0.2)}.items():
+    tried, ratio = {}, {}
+    for label, (u, v, dt) in {"swing": (0.0, 6.0, 0.01), "release": (1.0, 0.0, 0.2),
+                              "overshoot": (1.0, 0.0, 2.0)}.items():
         model = Oscillator(k3=50.0)
         a = -(model.k * u + model.k3 * u ** 3)
         state = NewmarkState(0.0, np.array([u]), np.array([v]), np.array([a]))
+        problem = _StepProblem(model, state, dt, _newmark_coefficients(None, None, 0.0),
+                               _Restrictions(DirectSolver()))
+        size = {name: np.linalg.norm(problem.residual(problem.start(name))[0])
+                for name in ("displacement", "acceleration")}
+        ratio[label] = size["acceleration"] / size["displacement"]
         with pytest.raises(ConvergenceError) as err:
             newmark_step(model, state, dt, max_iter=1, rtol=1e-14, du_rtol=1e-14)
-        tried[label] = [name for name in ("acceleration", "displacement")
-                        if f"{name} predictor" in str(err.value)]
+        message = str(err.value)
+        tried[label] = [name for name in ("displacement", "acceleration")
+                        if f"{name} predictor: not tried" not in message and f"{name} predictor" in message]
+    assert ratio["swing"] < 1e-2 and 1e-2 < ratio["release"] < 1e2 and ratio["overshoot"] > 1e2
     assert FALLBACK_RATIO == 100.0
-    assert tried == {"swing": ["acceleration"], "release": ["acceleration", "displacement"]}
+    assert tried == {"swing": ["displacement", "acceleration"], "release": ["displacement", "acceleration"],
+                     "overshoot": ["displacement"]}
 
 
 class WrongConsistentTangent(Oscillator):
@@ -276,7 +286,8 @@ def test_cut_before_fallbacks_and_every_attempt_counted():
     cut = [info for info in infos if info.cuts]
     assert len(cut) == 1 and cut[0].t == pytest.approx(0.09) and cut[0].dt == pytest.approx(0.01)
     assert not any(info.rescued for info in infos)
-    assert len(failed_calls) == 4           # the two starts' residuals, a Newton attempt from each
+    # a Newton attempt from u₁ = u₀, then the other start's residual: not finite, so not tried
+    assert len(failed_calls) == 2
     assert sum(info.factorizations for info in infos) == solver.factorizations
 
 
