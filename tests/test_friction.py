@@ -188,3 +188,28 @@ def test_vectorised_over_points_and_parameter_sets():
     for i in range(2):
         pi = FrictionParams(float(p.f1[i, 0]), 1e-3, float(p.eps_f[i, 0]), float(p.eta[i, 0]))
         np.testing.assert_allclose(M[i], friction_path(pi, kappa), rtol=1e-14)
+
+
+def test_switch_counter_counts_sign_changes_between_distinct_trial_points():
+    """benchmarks/friction_switching.py: a repeated trial point is counted once, and each new
+    point counts the points whose Δκ changed sign since the previous one."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "friction_switching.py"
+    spec = importlib.util.spec_from_file_location("friction_switching", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+
+    class Counted(FrictionState):   # the counter patches this class, not FrictionState
+        pass
+
+    counter = module.SwitchCounter(Counted)
+    counter.install()
+    state = Counted(FrictionParams(1.0, 0.0, 0.5, 0.5), shape=(3,))
+    for kappa in ([0.0, 0.0, 0.0], [1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, -1.0]):
+        state.trial(np.array(kappa))
+    state.commit(np.array([1.0, 1.0, -1.0]))
+    assert counter.take() == [2, 2]
+    assert counter.take() == []
+    assert FrictionState.trial is not Counted.trial
