@@ -10,7 +10,8 @@ row form an ensemble. ``DIR/ensemble.json`` gives, per ensemble, over the runs t
 * DC [%]: mean, sample standard deviation (n − 1; none for one run), minimum, maximum and the
   value of each seed;
 * nodes: mean, sample standard deviation, the histogram (node count → number of seeds), the
-  most frequent count and how many seeds agreed on it (ties: the smallest count);
+  most frequent count and how many seeds agreed on it (ties: the count nearest the median,
+  then the smaller; where no two seeds agree the summary says so);
 * the measured values of the base row (``measured.*`` columns), the runs that did not finish.
 """
 from __future__ import annotations
@@ -18,6 +19,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import statistics
 from collections import Counter
 from pathlib import Path
 
@@ -97,7 +99,17 @@ def ensemble_stats(records: list[dict]) -> dict:
     dc_mean, dc_std = _spread(dc)
     n_mean, n_std = _spread(nodes)
     hist = Counter(nodes)
-    mode, mode_count = (min(hist, key=lambda k: (-hist[k], k)), max(hist.values())) if hist else (None, 0)
+    mode, mode_count = None, 0
+    if hist:  # the commonest count; among tied ones the nearest the median, then the smaller
+        middle = statistics.median(nodes)
+        mode = min(hist, key=lambda k: (-hist[k], abs(k - middle), k))
+        mode_count = hist[mode]
+    if not nodes:
+        agreement = "no run gave a node count"
+    elif mode_count == 1 and len(nodes) > 1:
+        agreement = f"no two of {len(nodes)} seeds agree: {', '.join(map(str, sorted(nodes)))} nodes"
+    else:
+        agreement = f"{mode_count} of {len(nodes)} seeds gave {mode} nodes"
     return {
         "runs": len(records), "finished": len(done),
         "not_finished": {r["name"]: r.get("status", "") for r in records if r not in done},
@@ -106,9 +118,7 @@ def ensemble_stats(records: list[dict]) -> dict:
                        "values": {r["name"]: _number(r["DC_percent"]) for r in done}},
         "nodes": {"mean": n_mean, "std": n_std,
                   "histogram": {str(k): hist[k] for k in sorted(hist)},
-                  "mode": mode, "mode_count": mode_count,
-                  "agreement": (f"{mode_count} of {len(nodes)} seeds gave {mode} nodes"
-                                if nodes else "no run gave a node count")},
+                  "mode": mode, "mode_count": mode_count, "agreement": agreement},
     }
 
 

@@ -53,9 +53,16 @@ def test_statistics_over_the_finished_seeds_match_the_statistics_module():
     assert s["nodes"]["mean"] == pytest.approx(statistics.fmean(nodes), rel=1e-14)
     assert s["nodes"]["std"] == pytest.approx(statistics.stdev(nodes), rel=1e-14)
     assert s["nodes"]["histogram"] == {"5": 1, "6": 2, "7": 2, "9": 1}
-    # 6 and 7 tie: the smaller count is named
+    # 6 and 7 tie and lie equally near the median 6.5: the smaller count is named
     assert (s["nodes"]["mode"], s["nodes"]["mode_count"]) == (6, 2)
     assert s["nodes"]["agreement"] == "2 of 6 seeds gave 6 nodes"
+    # 7 and 9 tie: 7 lies nearer the median, 7.5 (the failed run has no count)
+    tied = ensemble_stats([dict(r, nodes=str(n)) for r, n in zip(recs, [7, 9, 7, 9, 5, 0, 8])])
+    assert (tied["nodes"]["mode"], tied["nodes"]["mode_count"]) == (7, 2)
+    # every seed differs: the median count is named, and the summary says none agree
+    spread = ensemble_stats([dict(r, nodes=str(n)) for r, n in zip(recs[:3], [5, 7, 6])])
+    assert (spread["nodes"]["mode"], spread["nodes"]["mode_count"]) == (6, 1)
+    assert spread["nodes"]["agreement"] == "no two of 3 seeds agree: 5, 6, 7 nodes"
     one = ensemble_stats(recs[:1])
     assert one["DC_percent"]["std"] is None and one["nodes"]["agreement"] == "1 of 1 seeds gave 6 nodes"
 
