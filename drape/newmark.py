@@ -619,7 +619,7 @@ def quasi_static(model, load_factors, times=None, state: NewmarkState | None = N
     Parameters
     ----------
     model : drape.model.StructuralModel
-        ``model.load_scale`` is set to each λ in turn, the one with the smaller residual first.
+        ``model.load_scale`` is set to each λ in turn (and to a bisected one after a failure).
     load_factors : sequence of float
         Load factors λ_i of the requested equilibrium states, in order.
     times : sequence of float, optional
