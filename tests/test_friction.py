@@ -190,16 +190,10 @@ def test_vectorised_over_points_and_parameter_sets():
         np.testing.assert_allclose(M[i], friction_path(pi, kappa), rtol=1e-14)
 
 
-def test_switch_counter_counts_sign_changes_between_distinct_trial_points():
+def test_switch_counter_counts_sign_changes_between_distinct_trial_points(benchmark_script):
     """benchmarks/friction_switching.py: a repeated trial point is counted once, and each new
     point counts the points whose Δκ changed sign since the previous one."""
-    import importlib.util
-    from pathlib import Path
-
-    path = Path(__file__).resolve().parents[1] / "benchmarks" / "friction_switching.py"
-    spec = importlib.util.spec_from_file_location("friction_switching", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = benchmark_script("friction_switching")
 
     class Counted(FrictionState):   # the counter patches this class, not FrictionState
         pass

@@ -3,7 +3,6 @@ the tornado's bars, and benchmarks/bench_sensitivity.py --tiny end to end (plumb
 from __future__ import annotations
 
 import csv
-import importlib.util
 import json
 import math
 import statistics
@@ -128,18 +127,10 @@ def test_tornado_bars_are_the_changes_sorted_by_swing_with_the_measured_line(tmp
     assert json.loads(paths["json"].read_text())["base"]["DC_percent"] == 60.0
 
 
-def _bench(name="bench_sensitivity"):
-    """A script of benchmarks/ as a module."""
-    spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-def test_bench_levels_are_valid_cases_of_the_wool():
+def test_bench_levels_are_valid_cases_of_the_wool(benchmark_script):
     from drape.case import load_case
 
-    bench = _bench()
+    bench = benchmark_script("bench_sensitivity")
     case = load_case(WOOL)
     factors = bench.factors(case)
     names = [f.name for f in factors]
@@ -154,8 +145,8 @@ def test_bench_levels_are_valid_cases_of_the_wool():
         load_case(WOOL, row.overrides())      # raises for a level that is no valid case
 
 
-def test_bench_tiny_runs_the_factors_and_writes_table_json_and_chart(tmp_path, capsys):
-    bench = _bench()
+def test_bench_tiny_runs_the_factors_and_writes_table_json_and_chart(tmp_path, capsys, benchmark_script):
+    bench = benchmark_script("bench_sensitivity")
     out = tmp_path / "sens"
     # --tiny, made tinier still (12 triangles, two steps) to keep the test short
     args = ["--tiny", "--factors", "friction_off,friction_order", "--out", str(out),
@@ -185,10 +176,10 @@ def test_bench_tiny_runs_the_factors_and_writes_table_json_and_chart(tmp_path, c
     assert "use a new --out" in capsys.readouterr().err
 
 
-def test_fold_preference_names_the_frictionless_state_of_least_energy(tmp_path):
+def test_fold_preference_names_the_frictionless_state_of_least_energy(tmp_path, benchmark_script):
     """Π = U + V from each run's summary.json; the sentence names the lowest frictionless Π,
     whatever friction-on runs reach (hand-made records)."""
-    bench = _bench("fold_preference")
+    bench = benchmark_script("fold_preference")
     records = []
     for name, n, friction, nodes, U, V in (("a", 4, "false", 8, 0.5e-3, -1.52e-3),
                                            ("b", 6, "false", 6, 0.4e-3, -1.50e-3),
@@ -209,8 +200,8 @@ def test_fold_preference_names_the_frictionless_state_of_least_energy(tmp_path):
     assert bench.measured_nodes(WOOL) == 5
 
 
-def test_fold_preference_tiny_runs_each_mode_with_and_without_friction(tmp_path, capsys):
-    bench = _bench("fold_preference")
+def test_fold_preference_tiny_runs_each_mode_with_and_without_friction(tmp_path, capsys, benchmark_script):
+    bench = benchmark_script("fold_preference")
     out = tmp_path / "folds"
     args = [str(WOOL), "--tiny", "--lobes", "2,3", "--out", str(out), "--workers", "2",
             "--set", "mesh.n_radial=1", "--set", "mesh.n_circumferential=12", "--set", "solver.t_end=0.02"]
