@@ -407,10 +407,15 @@ def _solve_step(problem: _StepProblem, predictor, tol, policy, solver, fallbacks
         policy = NewtonPolicy() if policy is None else policy
         policy = dataclasses.replace(policy, tangents=policy.tangents[:1])
     order = list(AUTO_ORDER) if predictor == "auto" else [predictor]
-    reasons, near = [], np.inf
+    reasons, near, first = [], np.inf, None
     for name in order:
         x0 = problem.start(name)
-        if name != order[0]:
+        if first is None:
+            first = x0
+        elif np.array_equal(x0, first):   # at rest (v₀ = a₀ = 0) both starts are u₀
+            reasons.append(f"{name} predictor: not tried, the same start as {order[0]}'s")
+            continue
+        else:
             # the fallback start only near balance: one farther off than a failed start fails too
             size = float(np.linalg.norm(problem.residual(x0)[0]))
             info.evaluations += 1

@@ -486,3 +486,18 @@ def test_bad_parameters_name_themselves(call, match):
     model = Oscillator()
     with pytest.raises(IntegratorInputError, match=match):
         call(model, NewmarkState(0.0, np.ones(1), np.zeros(1), np.zeros(1)))
+
+
+def test_auto_predictor_does_not_repeat_a_failed_run_from_the_same_start():
+    """Released at rest with a₀ = 0 (as a run starts), constant acceleration gives u₁ = u₀ again:
+    after Newton fails from u₁ = u₀ it is not run a second time from the same point."""
+    model = Oscillator(k3=50.0)
+    state = NewmarkState(0.0, np.array([1.0]), np.array([0.0]), np.array([0.0]))
+    with pytest.raises(ConvergenceError) as err:
+        newmark_step(model, state, 0.2, max_iter=1, rtol=1e-14, du_rtol=1e-14)
+    assert "acceleration predictor: not tried, the same start as displacement's" in str(err.value)
+    with pytest.raises(ConvergenceError) as alone:   # the run from u₁ = u₀ alone
+        newmark_step(model, state, 0.2, predictor="displacement", max_iter=1, rtol=1e-14, du_rtol=1e-14)
+    counts = [(e.value.info.iterations, e.value.info.evaluations, e.value.info.factorizations)
+              for e in (err, alone)]
+    assert counts[0] == counts[1]
