@@ -9,13 +9,16 @@ point has the form
 
 with a (5, 3) coefficient ``c`` (e.g. ``∂κ_v/∂u_bk = N_b,v n_k + N_b,1 (a2 × p_v)_k
 + N_b,2 (p_v × a1)_k``), and every term of the tangent the form
-``Σ_st φ_s[b] φ_t[c] Z_st[k, l]``. A point's whole contribution to the 63 × 63 element
-tangent is therefore a (5, 5, 3, 3) block ``Z`` contracted twice with ``φ``: once per
-point, then over all points of a triangle in one matrix product, a fraction of the cost of
-dense rank updates of the per-dof variations. The laws' viscous and curvature-inertia
-matrices ``∫ ∂κᵀ d ∂κ`` have the same form as the bending material term, so the kernel
-assembles the one matrix a Newmark step factorises, ``c_K K + c_C C_law + c_M M_law``, in
-that same product.
+``Σ_st φ_s[b] φ_t[c] Z[s, k, t, l]``. A point's whole contribution to the 63 × 63 element
+tangent is therefore a 15 × 15 block ``Z`` (stored (5, 3, 5, 3)) contracted twice with ``φ``:
+once per point, then over all points of a triangle in one matrix product, a fraction of the
+cost of dense rank updates of the per-dof variations. The per-point contraction runs
+innermost over the element's basis functions, contiguous in memory, so that it vectorises
+(a fifth less time per tangent than with the sum over ``t`` innermost); the element matrix
+then comes out as ``Jf[b, k, l, c]`` and the scatter reads it in that order. The laws'
+viscous and curvature-inertia matrices ``∫ ∂κᵀ d ∂κ`` have the same form as the bending
+material term, so the kernel assembles the one matrix a Newmark step factorises,
+``c_K K + c_C C_law + c_M M_law``, in that same product.
 
 The kernels run in parallel over the triangles of one colour of a colouring in which no
 two triangles of a colour share a dof, so each triangle scatters its tangent into the
@@ -292,34 +295,26 @@ def _rate(dN, HN, x, a, h, n, j, p, visc_v, wq, cdk, Mg, Z, work):
         for k in range(3):
             cg[1, k] = t1[k] + t2[k]
             cg[2 + v, k] = nd[k]
-        c = wq * visc_v[v]
-        for s in range(5):
-            for k in range(3):
-                x_sk = c * cdk[v, s, k]
-                if x_sk == 0.0:
-                    continue
-                for t in range(5):
-                    for l in range(3):
-                        Z[s, t, k, l] += x_sk * cg[t, l]
+        _outer_add(wq * visc_v[v], cdk[v], cg, Z)
 
 
 @njit(cache=True)
 def _half(Z, phi, Wrow):
-    """``Wrow[s, k, c, l] = Σ_t Z[s, t, k, l] φ_t[c]``."""
+    """``Wrow[s, k, l, c] = Σ_t Z[s, k, t, l] φ_t[c]``, contiguous in ``c`` (it vectorises)."""
     nb = phi.shape[1]
     for s in range(5):
         for k in range(3):
-            for c in range(nb):
-                for l in range(3):
-                    acc = 0.0
-                    for t in range(5):
-                        acc += Z[s, t, k, l] * phi[t, c]
-                    Wrow[s, k, c, l] = acc
+            for l in range(3):
+                z0, z1, z2 = Z[s, k, 0, l], Z[s, k, 1, l], Z[s, k, 2, l]
+                z3, z4 = Z[s, k, 3, l], Z[s, k, 4, l]
+                for c in range(nb):
+                    Wrow[s, k, l, c] = (z0 * phi[0, c] + z1 * phi[1, c] + z2 * phi[2, c]
+                                        + z3 * phi[3, c] + z4 * phi[4, c])
 
 
 @njit(cache=True)
 def _outer_add(scale, x, y, Z):
-    """``Z[s, t, k, l] += scale x[s, k] y[t, l]``."""
+    """``Z[s, k, t, l] += scale x[s, k] y[t, l]``, on ``Z`` as a 15 × 15 matrix."""
     for s in range(5):
         for k in range(3):
             xs = scale * x[s, k]
@@ -327,7 +322,7 @@ def _outer_add(scale, x, y, Z):
                 continue
             for t in range(5):
                 for l in range(3):
-                    Z[s, t, k, l] += xs * y[t, l]
+                    Z[s, k, t, l] += xs * y[t, l]
 
 
 @njit(cache=True, parallel=True)
@@ -390,15 +385,15 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, weights, order, start
                         de[q, 2, b, k] = dN[e, q, b, 0] * a[q, 1, k] + dN[e, q, b, 1] * a[q, 0, k]
             # the assumed strain Σ_r Q_qr ∂ε_r at every point, as one matrix product
             Qde = np.dot(Q, de.reshape(nq, 9 * nb)).reshape(nq, 3, nb, 3)
-            # Σ_q Σ_s φ_qs[b] W_q[s, k, c, l] as one matrix product over (q, s)
+            # Σ_q Σ_s φ_qs[b] W_q[s, k, l, c] as one matrix product over (q, s)
             Phi = np.empty((nb, 5 * nq))
-            Wall = np.empty((5 * nq, 3, nb, 3))   # every entry set by _half
-            Z = np.empty((5, 5, 3, 3))
+            Wall = np.empty((5 * nq, 3, 3, nb))   # every entry set by _half
+            Z = np.empty((5, 3, 5, 3))
             p = np.empty((3, 3))
             cde = np.empty((3, 5, 3))
             cdk = np.empty((3, 5, 3))
             phi = np.empty((5, nb))
-            CQde = np.empty((3, nb, 3))
+            CQde = np.empty((3, 3, nb))
             E0 = np.empty((3, 3))
             E1 = np.empty((3, 3))
             Pm = np.empty((3, 3))
@@ -450,10 +445,10 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, weights, order, start
                 # ---- membrane geometric part N_v ∂²ε_v (identity in k, l)
                 S00, S11, S01 = wq * Nm[e, q, 0], wq * Nm[e, q, 1], wq * Nm[e, q, 2]
                 for k in range(3):
-                    Z[0, 0, k, k] += S00
-                    Z[1, 1, k, k] += S11
-                    Z[0, 1, k, k] += S01
-                    Z[1, 0, k, k] += S01
+                    Z[0, k, 0, k] += S00
+                    Z[1, k, 1, k] += S11
+                    Z[0, k, 1, k] += S01
+                    Z[1, k, 0, k] += S01
                 # ---- bending geometric part Σ_v M_v ∂²κ_v
                 for k in range(3):
                     m[k] = wq * (Mg[0] * h[q, 0, k] + Mg[1] * h[q, 1, k] + Mg[2] * h[q, 2, k])
@@ -488,10 +483,10 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, weights, order, start
                 # (P m / j) · ∂²a3 = (N_b,1 N_c,2 − N_b,2 N_c,1) pm · (e_k × e_l)
                 for kl in range(3):
                     k, l, i3 = kl, (kl + 1) % 3, (kl + 2) % 3
-                    Z[0, 1, k, l] += pm[i3]
-                    Z[0, 1, l, k] -= pm[i3]
-                    Z[1, 0, k, l] -= pm[i3]
-                    Z[1, 0, l, k] += pm[i3]
+                    Z[0, k, 1, l] += pm[i3]
+                    Z[0, l, 1, k] -= pm[i3]
+                    Z[1, k, 0, l] -= pm[i3]
+                    Z[1, l, 0, k] += pm[i3]
                 # N_b,v M_v (∂n/∂u_cl)_k and its transpose, ∂n = (I − n n) ∂a3 / j
                 for k in range(3):
                     for i3 in range(3):
@@ -504,17 +499,13 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, weights, order, start
                         for l in range(3):
                             x0 = mv * (Pm[k, 0] * E0[l, 0] + Pm[k, 1] * E0[l, 1] + Pm[k, 2] * E0[l, 2])
                             x1 = mv * (Pm[k, 0] * E1[l, 0] + Pm[k, 1] * E1[l, 1] + Pm[k, 2] * E1[l, 2])
-                            Z[2 + v, 0, k, l] += x0
-                            Z[2 + v, 1, k, l] += x1
-                            Z[0, 2 + v, l, k] += x0
-                            Z[1, 2 + v, l, k] += x1
+                            Z[2 + v, k, 0, l] += x0
+                            Z[2 + v, k, 1, l] += x1
+                            Z[0, l, 2 + v, k] += x0
+                            Z[1, l, 2 + v, k] += x1
                 # ---- weighted: c_K K + the laws' c_C d + c_M m on the warp and weft curvatures
                 if cK != 1.0:
-                    for s in range(5):
-                        for t5 in range(5):
-                            for k in range(3):
-                                for l in range(3):
-                                    Z[s, t5, k, l] *= cK
+                    Z *= cK
                 for v in range(2):
                     _outer_add(wq * (cC * visc[0, v] + cM * visc[1, v]), cdk[v], cdk[v], Z)
                 _half(Z, phi, Wrow)
@@ -527,24 +518,27 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, weights, order, start
                             continue
                         for b in range(nb):
                             for k in range(3):
-                                CQde[v, b, k] += cvx * Qde[q, x, b, k]
+                                CQde[v, k, b] += cvx * Qde[q, x, b, k]
                 for v in range(3):
                     for s in range(2):
                         for k in range(3):
                             c = cde[v, s, k]
                             if c == 0.0:
                                 continue
-                            for b in range(nb):
-                                for l in range(3):
-                                    Wrow[s, k, b, l] += c * CQde[v, b, l]
-            Jf = np.dot(Phi, Wall.reshape(5 * nq, 9 * nb)).reshape(3 * nb, 3 * nb)
-            if symmetrize:
-                for I in range(3 * nb):
-                    for J in range(I + 1, 3 * nb):
-                        Jf[I, J] = Jf[J, I] = 0.5 * (Jf[I, J] + Jf[J, I])
-            for I in range(3 * nb):
-                for J in range(3 * nb):
-                    Jd[csr_map[e, I, J]] += Jf[I, J]
+                            for l in range(3):
+                                for b in range(nb):
+                                    Wrow[s, k, l, b] += c * CQde[v, l, b]
+            # Jf[b, k, l, c]: the element matrix's entry (3 b + k, 3 c + l)
+            Jf = np.dot(Phi, Wall.reshape(5 * nq, 9 * nb)).reshape(nb, 3, 3, nb)
+            for b in range(nb):
+                for k in range(3):
+                    I = 3 * b + k
+                    for c in range(nb):
+                        for l in range(3):
+                            x = Jf[b, k, l, c]
+                            if symmetrize:
+                                x = 0.5 * (x + Jf[c, l, k, b])
+                            Jd[csr_map[e, I, 3 * c + l]] += x
 
 
 @njit(cache=True, parallel=True)
