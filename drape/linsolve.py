@@ -135,9 +135,12 @@ class FreeRestriction:
         J = J if sp.isspmatrix_csr(J) else sp.csr_matrix(J)
         if not _same_pattern(J, self._pattern):
             self._build(J)
+        self._pattern = (J.indptr, J.indices)   # an equal pattern elsewhere in memory: check it once
         data = np.empty(self._map.size)
         _gather(self._map, np.ascontiguousarray(J.data, dtype=float), data)
-        return sp.csr_matrix((data, self._indices, self._indptr), shape=self._shape)
+        A = sp.csr_matrix((data, self._indices, self._indptr), shape=self._shape)
+        A.has_sorted_indices = True             # sorted by _build; spares scipy's check
+        return A
 
     def _build(self, J):
         # restrict a matrix whose data are the positions (1-based) of J's entries
@@ -148,7 +151,6 @@ class FreeRestriction:
         sub.sort_indices()
         self._map = sub.data.astype(np.int64) - 1
         self._indices, self._indptr, self._shape = sub.indices, sub.indptr, sub.shape
-        self._pattern = (J.indptr, J.indices)
 
 
 @njit(cache=True, parallel=True)
@@ -384,10 +386,10 @@ class DirectSolver:
         A = A if sp.isspmatrix_csr(A) else sp.csr_matrix(A)
         t0 = time.perf_counter()
         if not _same_pattern(A, self._input):
-            self._input = (A.indptr, A.indices)
             full = self.symmetric and not _is_upper(A)
             # a full symmetric matrix: keep its upper triangle through a cached index map
             self._triu = FreeRestriction(np.arange(A.shape[0]), upper=True) if full else None
+        self._input = (A.indptr, A.indices)   # an equal pattern elsewhere in memory: compared once
         if self._triu is not None:
             A = self._triu(A)
         elif not A.has_sorted_indices:
@@ -397,8 +399,8 @@ class DirectSolver:
             self._impl = self._backend(A.shape[0])
         if not _same_pattern(A, self._pattern):
             self._impl.analyse(A)
-            self._pattern = (A.indptr, A.indices)
             self.analyses += 1
+        self._pattern = (A.indptr, A.indices)
         t1 = time.perf_counter()
         self._impl.factorize(A)
         self.factorizations += 1

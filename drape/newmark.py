@@ -214,7 +214,10 @@ class _Constraints:
             pvals = pvals - self.lift[0][pdofs]
         self.fixed = np.asarray(model.fixed_dofs, dtype=int)
         self.pdofs, self.pvals = pdofs, pvals
-        self.free = np.setdiff1d(np.arange(n), np.union1d(self.fixed, pdofs))
+        free = np.ones(n, dtype=bool)
+        free[self.fixed] = False
+        free[pdofs] = False
+        self.free = np.flatnonzero(free)
 
     def impose(self, uh):
         """``uh`` with the fixed dofs zero and the imposed ones at their values."""
