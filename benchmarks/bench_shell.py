@@ -11,7 +11,10 @@ timed for
    ``_internal(u, v, a, weights)``;
 4. the whole ``evaluate`` of a step (plus Rayleigh damping, mass, external loads; the
    step's matrix as CSR);
-5. the step matrix's restriction to the free dofs (upper triangle, as the symmetric solver
+5. a force pass followed by the step matrix at the same point, as Newton's line search and
+   its next tangent take them (the second reuses the first's kinematics and law trial; every
+   other row starts without a kept trial);
+6. the step matrix's restriction to the free dofs (upper triangle, as the symmetric solver
    takes it): :class:`drape.linsolve.FreeRestriction`'s gather on every core, and the same
    gather by ``np.take`` for comparison.
 
@@ -87,11 +90,20 @@ def main(argv=None):
     restrict = FreeRestriction(np.setdiff1d(np.arange(shell.ndofs), shell.fixed_dofs), upper=True)
     restrict(J)
 
+    def fresh(fun):
+        """``fun`` without the shell's kept law trial of an earlier call."""
+        def call():
+            shell._kept_point = None
+            return fun()
+        return call
+
     rows = [("kinematics + law trial", law),
-            ("force only", lambda: shell._internal(u, v)),
-            ("force + step matrix (kernel)", lambda: shell._internal(u, v, a, STEP_WEIGHTS)),
+            ("force only", fresh(lambda: shell._internal(u, v))),
+            ("force + step matrix (kernel)", fresh(lambda: shell._internal(u, v, a, STEP_WEIGHTS))),
             ("evaluate (R, step matrix as CSR)",
-             lambda: shell.evaluate(u, v, a, 0.5, "consistent", STEP_WEIGHTS)),
+             fresh(lambda: shell.evaluate(u, v, a, 0.5, "consistent", STEP_WEIGHTS))),
+            ("force, then step matrix at that point",
+             fresh(lambda: (shell._internal(u, v), shell._internal(u, v, a, STEP_WEIGHTS)))),
             ("restriction to the free dofs", lambda: restrict(J)),
             ("  the same gather by np.take", lambda: np.take(J.data, restrict._map))]
     for name, fun in rows:

@@ -440,9 +440,6 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, weights, order, start
                         for k in range(3):
                             F[s, k] += Nm[e, q, v] * cde[v, s, k] + Mf[v] * cdk[v, s, k]
                 _add_per_dof(wq, phi, F, fe[e].reshape(nb, 3))
-                # ---- bending material part
-                for v in range(3):
-                    _outer_add(wq * D[e, q, v], cdk[v], cdk[v], Z)
                 # ---- membrane geometric part N_v ∂²ε_v (identity in k, l)
                 S00, S11, S01 = wq * Nm[e, q, 0], wq * Nm[e, q, 1], wq * Nm[e, q, 2]
                 for k in range(3):
@@ -504,11 +501,15 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, weights, order, start
                             Z[2 + v, k, 1, l] += x1
                             Z[0, l, 2 + v, k] += x0
                             Z[1, l, 2 + v, k] += x1
-                # ---- weighted: c_K K + the laws' c_C d + c_M m on the warp and weft curvatures
+                # ---- weighted: c_K K, where the bending material part c_K D joins the laws'
+                # c_C d + c_M m on the warp and weft curvatures (one rank-one update each)
                 if cK != 1.0:
                     Z *= cK
-                for v in range(2):
-                    _outer_add(wq * (cC * visc[0, v] + cM * visc[1, v]), cdk[v], cdk[v], Z)
+                for v in range(3):
+                    law = cK * D[e, q, v]
+                    if v < 2:
+                        law += cC * visc[0, v] + cM * visc[1, v]
+                    _outer_add(wq * law, cdk[v], cdk[v], Z)
                 _half(Z, phi, Wrow)
                 # ---- membrane material part: w_p ∂ε_pᵀ C_m Σ_q Q_pq ∂ε_q, as rows s = α
                 CQde[:] = 0.0

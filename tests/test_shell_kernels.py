@@ -8,6 +8,7 @@ from skfem import MeshTri
 from skfem.quadrature import get_quadrature
 from skfem.refdom import RefTri
 
+from constitutive.friction import FrictionParams
 from constitutive.law import BendingLaw
 from drape.shell import ElasticMaterial, KirchhoffLoveShell, ShellInputError
 from drape.shell_kernels import element_colours
@@ -333,16 +334,51 @@ def test_step_matrix_is_the_weighted_sum_of_K_C_and_M(viscous_shell):
         shell.rayleigh = (0.0, 0.0)
 
 
-def test_mass_and_damping_products_drop_only_stored_zeros(viscous_shell):
-    """The zero-free copies that take M a and C₀ v keep every nonzero of M and C₀ = αM + βK₀
-    (a third of the shared pattern for M) and give the same products to the last digit."""
+def test_mass_and_damping_products_match_the_assembled_matrices(viscous_shell):
+    """``M a`` and ``C₀ v`` from the scalar mass (applied to the three components at once)
+    equal the products with the assembled ``M`` and ``C₀ = αM + βK₀`` on the shared pattern."""
     shell = viscous_shell
-    shell.rayleigh = (3.0, 0.0)
-    try:
-        x = np.random.default_rng(4).standard_normal(shell.ndofs)
-        for full, compact in ((shell._M, shell._M_product), (3.0 * shell._M, shell._damping_product())):
-            assert compact.nnz == np.count_nonzero(full.data) < 0.4 * full.nnz
-            assert abs(compact - full).max() == 0.0
-            assert np.array_equal(compact @ x, full @ x)
-    finally:
-        shell.rayleigh = (0.0, 0.0)
+    rng = np.random.default_rng(4)
+    a, v = rng.standard_normal((2, shell.ndofs))
+    assert shell._M_scalar.nnz == np.count_nonzero(shell._M.data) // 3
+    Ma, Mv = shell._mass_products(a, v)
+    assert np.allclose(Ma, shell._M @ a, rtol=0, atol=1e-15 * np.abs(shell._M @ a).max())
+    for alpha, beta in ((3.0, 0.0), (3.0, 0.02)):
+        shell.rayleigh = (alpha, beta)
+        try:
+            C0v = (alpha * shell._M + beta * shell._K0) @ v
+            assert np.allclose(shell._damping_force(v, Mv), C0v, rtol=0, atol=1e-14 * np.abs(C0v).max())
+        finally:
+            shell.rayleigh = (0.0, 0.0)
+
+
+class _Frictional(_Viscous):
+    """Dry friction in both directions (Bliman–Sorine), whose moment depends on the
+    committed state."""
+
+    warp = BendingLaw(k1=1.0, friction=FrictionParams(0.3, 0.1, 0.05, 0.5))
+    weft = BendingLaw(k1=0.7, friction=FrictionParams(0.2, 0.05, 0.05, 0.5))
+
+
+def test_point_state_is_kept_for_one_committed_state():
+    """The force pass and the tangent pass at one ``u`` share the laws' trial (the kept
+    result gives the same numbers as a fresh one); after a commit the trial at that ``u``
+    starts from the new committed state, and friction makes its force differ."""
+    shell = KirchhoffLoveShell(_strip(), _Frictional(), gravity=0.0)
+    u, _ = _large_rotation_state(shell)
+
+    def fresh(*args):
+        shell._kept_point = None
+        return shell._internal(u, *args)
+
+    f_start = shell._internal(u)[0]
+    kept = shell._kept_point
+    f, Kd = shell._internal(u, None, None, K_ONLY)
+    assert shell._kept_point is kept
+    f_fresh, Kd_fresh = fresh(None, None, K_ONLY)
+    assert np.array_equal(f, f_fresh) and np.array_equal(Kd, Kd_fresh)
+
+    shell.commit(0.5 * u)
+    f_after = shell._internal(u)[0]
+    assert np.array_equal(f_after, fresh()[0])
+    assert np.linalg.norm(f_after - f_start) > 1e-3 * np.linalg.norm(f_start)
