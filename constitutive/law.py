@@ -186,7 +186,9 @@ class BendingState:
 
     This is the object the FE layer holds per direction and quadrature
     point: ``trial`` (no mutation, any number of times) and ``commit``
-    (once per converged step).
+    (once per converged step). ``commit`` and ``load_state_dict`` give
+    ``kappa`` a new array, so a holder can tell by identity whether the
+    committed state changed since it last looked.
 
     Examples
     --------

@@ -719,8 +719,8 @@ class KirchhoffLoveShell:
             Md = self._viscous_moments(u, v)
             if self._v_committed is not None:
                 du = u - self._u_committed
-                vm = v + self._v_committed
-                self._damping_work += float(0.5 * self._damping_force(vm, *self._mass_products(vm)) @ du)
+                vsum = v + self._v_committed
+                self._damping_work += float(0.5 * self._damping_force(vsum, *self._mass_products(vsum)) @ du)
                 # the law's own viscosity: ∫ ½ (d κ̇_old + d κ̇_new) Δκ
                 self._damping_work += float(np.einsum(
                     "eqv,eq->", 0.5 * (Md + self._Md_committed) * dk, self.w))

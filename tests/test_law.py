@@ -142,3 +142,15 @@ def test_fabric2_weft_softens_and_the_nonnegative_friction_tangent_keeps_the_mom
     assert np.all(dM2 >= elastic * (1 - 1e-12)) and np.allclose(dM2[dM > elastic], dM[dM > elastic])
     with pytest.raises(ValueError, match="friction_tangent"):
         st.trial(kappa, friction_tangent="secant")
+
+
+def test_commit_and_restore_give_kappa_a_new_array():
+    """A holder of the state (the shell keeps the last trial it took) tells by the identity of
+    ``kappa`` whether the committed state changed: commit and restore replace the array."""
+    st = BendingLaw(k1=1.0, friction=FrictionParams(1.0, 0.5, 1.0, 0.5)).new_state((3,))
+    before = st.kappa
+    st.commit(np.zeros(3))
+    assert st.kappa is not before
+    saved, committed = st.state_dict(), st.kappa
+    st.load_state_dict(saved)
+    assert st.kappa is not committed and np.array_equal(st.kappa, committed)
