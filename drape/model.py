@@ -12,7 +12,21 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["StructuralModel", "Evaluation"]
+__all__ = ["StructuralModel", "Evaluation", "free_dofs"]
+
+
+def free_dofs(ndofs: int, fixed, imposed=()) -> np.ndarray:
+    """The dofs (sorted) that are neither fixed (homogeneous Dirichlet) nor imposed.
+
+    Examples
+    --------
+    >>> free_dofs(6, [0, 3], [5]).tolist()
+    [1, 2, 4]
+    """
+    free = np.ones(int(ndofs), dtype=bool)
+    free[np.asarray(fixed, dtype=np.int64)] = False
+    free[np.asarray(imposed, dtype=np.int64)] = False
+    return np.flatnonzero(free)
 
 
 @dataclass

@@ -61,6 +61,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from drape.linsolve import DirectSolver, FreeRestriction, LinearSolverError, blas_threads
+from drape.model import free_dofs
 from drape.newton import NewtonPolicy, NewtonTolerances, newton
 
 __all__ = [
@@ -214,10 +215,7 @@ class _Constraints:
             pvals = pvals - self.lift[0][pdofs]
         self.fixed = np.asarray(model.fixed_dofs, dtype=int)
         self.pdofs, self.pvals = pdofs, pvals
-        free = np.ones(n, dtype=bool)
-        free[self.fixed] = False
-        free[pdofs] = False
-        self.free = np.flatnonzero(free)
+        self.free = free_dofs(n, self.fixed, pdofs)
 
     def impose(self, uh):
         """``uh`` with the fixed dofs zero and the imposed ones at their values."""

@@ -49,7 +49,7 @@ import skfem
 
 from .boundary import pure_bending_rotations, straight_edge
 from .loads import as_function
-from .model import Evaluation
+from .model import Evaluation, free_dofs
 from .assembly import (
     SparsityPattern,
     at_quadrature,
@@ -308,8 +308,7 @@ class KirchhoffPlate:
         """Static extension of each rotated edge's unit motion into the free dofs (K0 solve)."""
         if not self._rotations:
             return None
-        constrained = np.union1d(self.fixed_dofs, self._prescribed_dofs)
-        free = np.setdiff1d(np.arange(self.ndofs), constrained)
+        free = free_dofs(self.ndofs, self.fixed_dofs, self._prescribed_dofs)
         K = sp.csr_matrix(self.K0)
         Kff = K[free][:, free].tocsc()
         lifts = []

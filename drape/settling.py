@@ -22,6 +22,8 @@ import math
 
 import numpy as np
 
+from drape.model import free_dofs
+
 __all__ = ["Settling", "out_of_balance", "DEFAULT_OUT_OF_BALANCE"]
 
 #: Default ``stop.out_of_balance``: the static out-of-balance force, as a fraction of the weight,
@@ -66,11 +68,8 @@ def out_of_balance(model, u, t: float) -> float:
     u = np.asarray(u, dtype=float)
     zero = np.zeros_like(u)
     force = np.asarray(model.evaluate(u, zero, zero, t).force, dtype=float)
-    free = np.ones(force.size, dtype=bool)
-    free[np.asarray(model.fixed_dofs, dtype=np.int64)] = False
     imposed = model.prescribed(t)
-    if imposed is not None:
-        free[np.asarray(imposed[0], dtype=np.int64)] = False
+    free = free_dofs(force.size, model.fixed_dofs, () if imposed is None else imposed[0])
     return float(np.linalg.norm(force[free]))
 
 

@@ -60,7 +60,7 @@ from drape.assembly import SparsityPattern
 from drape import shell_kernels as kernels
 from drape.kinematics import KLPoint, assumed_strain_operator, basis_arrays
 from drape.loads import as_function
-from drape.model import Evaluation
+from drape.model import Evaluation, free_dofs
 
 #: Newton tangents of the rate terms d κ̇ + m κ̈: the symmetric part of K, or the exact one.
 VISCOUS_TANGENTS = ("symmetric", "full")
@@ -872,7 +872,7 @@ class KirchhoffLoveShell:
     def solve_linear(self, K, b):
         """Solve ``K x = b`` with the fixed dofs held at zero."""
         x = np.zeros(self.ndofs)
-        free = np.setdiff1d(np.arange(self.ndofs), self.fixed_dofs)
+        free = free_dofs(self.ndofs, self.fixed_dofs)
         x[free] = spla.spsolve(sp.csc_matrix(K[free][:, free]), b[free])
         return x
 

@@ -16,10 +16,10 @@ cost of dense rank updates of the per-dof variations. The per-point contraction 
 innermost over the element's basis functions, contiguous in memory, so that it vectorises
 (13–19 % less time per tangent than with the sum over ``t`` innermost, BENCHMARKS.md);
 the element matrix then comes out as ``Jf[b, k, l, c]`` and the scatter reads it in that
-order. The laws'
-viscous and curvature-inertia matrices ``∫ ∂κᵀ d ∂κ`` have the same form as the bending
-material term, so the kernel assembles the one matrix a Newmark step factorises,
-``c_K K + c_C C_law + c_M M_law``, in that same product.
+order. The laws' viscous and curvature-inertia matrices ``∫ ∂κᵀ d ∂κ`` have the same form
+as the bending material term, so they join it as one rank-one update per curvature, and the
+kernel assembles the one matrix a Newmark step factorises, ``c_K K + c_C C_law + c_M M_law``,
+in that same product.
 
 The kernels run in parallel over the triangles of one colour of a colouring in which no
 two triangles of a colour share a dof, so each triangle scatters its tangent into the
