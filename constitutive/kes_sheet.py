@@ -42,18 +42,21 @@ bounds (e.g. a weight in g/m² below 100) cannot be told from a real fabric.
 
 * ``G12 = G · (g₀·10⁻³ N / 10⁻² m) · (180/π)`` — KES G is per degree of shear angle; the
   membrane's is per radian: 1 gf/(cm·deg) = 56.19 N/m.
-* Tensile stiffness per direction from the KES-FB1 curve up to Fm: the linear stiffness that
-  stores the measured tensile energy WT at the measured strain εm = EMT/100,
-  ``E = 2 WT / εm² = LT · Fm / εm`` (LT = WT/(Fm εm/2) by its definition). Any two of EMT, LT,
-  WT give it (all three must agree within 10 %: a sheet rounds them); EMT alone gives the
-  secant ``Fm / εm`` (LT = 1, the upper bound: woven fabrics' curves are J-shaped, LT < 1).
-  ``E_warp`` / ``E_weft`` give it directly instead.
+* Tensile curve per direction from the KES-FB1 values up to Fm: the power law of
+  :mod:`constitutive.tensile`, with strain εm = EMT/100 at Fm and linearity LT. Any two of
+  EMT, LT, WT give it (all three must agree within 10 %: a sheet rounds them); EMT alone
+  takes the default LT = 0.65. Its linear stiffness storing the energy,
+  ``E = 2 WT / εm² = LT · Fm / εm``, is E11 or E22 of the material; a drape case linearises
+  the curve at the tension its specimen carries instead (``[model] membrane_tension``).
+  ``E_warp`` / ``E_weft`` give a linear stiffness directly instead.
 * 2HG and 2HG5 are kept with the material (and in summary.json) but not used: the membrane
   is elastic.
 
 Where the sheet is silent the membrane keeps the project's defaults
 (:data:`constitutive.material.DEFAULT_MEMBRANE`: E11 = E22 = 1e4 N/m, G12 = 50 N/m, ν12 = 0;
-in sheet terms G ≈ 0.89 gf/(cm·deg) and EMT ≈ 4.9 % at LT = 1, mid-range apparel values).
+in sheet terms G ≈ 0.89 gf/(cm·deg), and the tensile curve
+:data:`constitutive.tensile.DEFAULT_TENSILE`, EMT ≈ 3.2 % at LT = 0.65: mid-range apparel
+values).
 """
 from __future__ import annotations
 
@@ -64,6 +67,7 @@ from typing import Annotated
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
+from constitutive.tensile import DEFAULT_LINEARITY, TensileCurve
 from constitutive.units import G0, to_si, ureg
 
 __all__ = ["SHEET", "SheetKey", "read_sheet_value", "sheet_field", "KesSpec", "KesFabricSpec",
@@ -224,8 +228,8 @@ class KesSpec(_Strict):
     HG2: sheet_field("HG2", None, "Shear hysteresis 2HG at 0.5° [gf/cm]; recorded, not used (the "
                                   "membrane is elastic).")
     HG2_5: sheet_field("HG2", None, "Shear hysteresis 2HG5 at 5° [gf/cm]; recorded, not used.")
-    EMT_warp: sheet_field("EMT", None, "Tensile strain at Fm, warp [%]; with LT or WT (or alone: "
-                                       "secant) builds E11 (default 1e4 N/m).")
+    EMT_warp: sheet_field("EMT", None, "Tensile strain at Fm, warp [%]; with LT or WT (alone: "
+                                       "LT = 0.65) builds the warp's tensile curve and E11.")
     EMT_weft: sheet_field("EMT", None, "Tensile strain at Fm, weft [%]; builds E22.")
     LT_warp: sheet_field("LT", None, "Linearity of the tensile curve, warp [1].")
     LT_weft: sheet_field("LT", None, "Linearity of the tensile curve, weft [1].")
@@ -255,37 +259,47 @@ class KesSpec(_Strict):
                         f"within {LT_TOLERANCE:.0%}")
         return self
 
+    def tensile_curves(self) -> dict:
+        """``{key: (TensileCurve, source text)}`` for E11 (warp) and E22 (weft) where the sheet
+        gives tensile values (see the module docstring); a missing LT is the default."""
+        out = {}
+        for d, key in zip(_DIRS, ("E11", "E22")):
+            emt, lt, wt = (getattr(self, f"{k}_{d}") for k in _TENSILE)
+            fm = self.Fm
+            if emt is not None:
+                eps = emt / 100.0
+                if lt is not None:
+                    how = f"EMT_{d} = {emt:g} %, LT_{d} = {lt:g}"
+                elif wt is not None:
+                    lt = 2.0 * wt / (fm * eps)
+                    how = f"EMT_{d} = {emt:g} %, WT_{d} = {wt:g} gf·cm/cm² (LT = {lt:.3g})"
+                else:
+                    lt = DEFAULT_LINEARITY
+                    how = f"EMT_{d} = {emt:g} % with the default LT = {lt:g}"
+            elif lt is not None and wt is not None:
+                eps = 2.0 * wt / (lt * fm)
+                how = f"LT_{d} = {lt:g}, WT_{d} = {wt:g} gf·cm/cm² (EMT = {100 * eps:.3g} %)"
+            else:
+                continue
+            out[key] = (TensileCurve(eps, lt, to_si(fm, "E_tensile")), f"KES {how}, Fm = {fm:g} gf/cm")
+        return out
+
     def membrane(self) -> tuple[dict, dict]:
         """The membrane stiffnesses this sheet determines: ``({key: N/m}, {key: source text})``
-        for the keys among E11, E22, G12 it gives (see the module docstring)."""
+        for the keys among E11, E22, G12 it gives (see the module docstring). E11 and E22 are
+        the linear stiffnesses storing the tensile energy, 2 WT/εm², or ``E_warp``/``E_weft``."""
         values, sources = {}, {}
         if self.G is not None:
             values["G12"] = to_si(self.G, "G")
             sources["G12"] = f"KES G = {self.G:g} gf/(cm·deg) × 56.19 (per degree → per radian)"
+        curves = self.tensile_curves()
         for d, key in zip(_DIRS, ("E11", "E22")):
             direct = getattr(self, f"E_{d}")
-            emt, lt, wt = (getattr(self, f"{k}_{d}") for k in _TENSILE)
-            fm = self.Fm
             if direct is not None:
-                values[key], how = direct, f"KES E_{d} = {direct:g} gf/cm"
-            elif emt is not None:
-                eps = emt / 100.0
-                if wt is not None:
-                    values[key] = 2.0 * wt / eps**2
-                    how = f"2 WT/εm² with WT_{d} = {wt:g} gf·cm/cm², EMT_{d} = {emt:g} %"
-                elif lt is not None:
-                    values[key] = lt * fm / eps
-                    how = f"LT·Fm/εm with LT_{d} = {lt:g}, EMT_{d} = {emt:g} %, Fm = {fm:g} gf/cm"
-                else:
-                    values[key] = fm / eps
-                    how = f"secant Fm/εm with EMT_{d} = {emt:g} %, Fm = {fm:g} gf/cm (LT = 1)"
-            elif lt is not None and wt is not None:
-                values[key] = (lt * fm) ** 2 / (2.0 * wt)
-                how = f"(LT·Fm)²/(2 WT) with LT_{d} = {lt:g}, WT_{d} = {wt:g} gf·cm/cm², Fm = {fm:g} gf/cm"
-            else:
-                continue
-            values[key] = to_si(values[key], "E_tensile")
-            sources[key] = f"KES {how}"
+                values[key], sources[key] = to_si(direct, "E_tensile"), f"KES E_{d} = {direct:g} gf/cm"
+            elif key in curves:
+                curve, how = curves[key]
+                values[key], sources[key] = curve.secant, f"2 WT/εm² of the {how}"
         return values, sources
 
     def extras_si(self) -> dict:

@@ -14,6 +14,10 @@ Defaults (documented, overridable in the file):
   ``E11 = E22 = 1.0e4 N/m``, ``ν12 = 0``, ``G12 = 50 N/m``, where neither the
   ``[kes]`` sheet values (G, EMT, LT, WT, E; :mod:`constitutive.kes_sheet`) nor the
   ``[membrane]`` table (N/m) give them. ``FabricMaterial.membrane_source`` says which.
+  E11 and E22 that are not given as numbers keep their tensile curve
+  (:attr:`FabricMaterial.tensile`: the sheet's, else
+  :data:`constitutive.tensile.DEFAULT_TENSILE`, whose energy-storing stiffness is the
+  1.0e4 N/m), and :meth:`FabricMaterial.at_tension` takes them at a drape's tension.
 
 Weight and thickness are read as a KES sheet prints them, mg/cm² and mm (or as strings
 with units), and refused outside the range of woven and knitted fabrics
@@ -57,6 +61,7 @@ from constitutive.friction import FrictionParams, ParameterError, friction_path
 from constitutive.kes import KesValues, kes_profile, kes_values, run_kes
 from constitutive.kes_sheet import KesFabricSpec, KesSpec, sheet_field  # noqa: F401 (re-exported)
 from constitutive.law import BendingLaw
+from constitutive.tensile import DEFAULT_SECANT, DEFAULT_TENSILE
 from constitutive.units import to_si
 from constitutive.validation import format_errors
 
@@ -66,7 +71,7 @@ __all__ = ["MaterialError", "FabricMaterial", "load_material", "material_from_ke
 MATERIALS_DIR = Path(__file__).resolve().parents[1] / "cases" / "materials"
 
 #: Membrane defaults (N/m): woven fabric, nearly inextensible along yarns, soft in shear.
-DEFAULT_MEMBRANE = {"E11": 1.0e4, "E22": 1.0e4, "nu12": 0.0, "G12": 50.0}
+DEFAULT_MEMBRANE = {"E11": DEFAULT_SECANT, "E22": DEFAULT_SECANT, "nu12": 0.0, "G12": 50.0}
 
 
 class MaterialError(ValueError):
@@ -96,6 +101,13 @@ class FabricMaterial:
     membrane_source : dict
         Where each of E11, E22, nu12, G12 comes from (text); a key missing means "given in
         code" (or the default, if it has the default value).
+    tensile : dict
+        ``{"E11": TensileCurve, "E22": ...}`` for the directions whose stiffness comes from a
+        tensile curve (a KES sheet's, or :data:`constitutive.tensile.DEFAULT_TENSILE`);
+        :meth:`at_tension` linearises them.
+    membrane_tension : float or None
+        The tension [N/m] at which E11 and E22 were taken on their curves (:meth:`at_tension`);
+        ``None``: the linear stiffness storing the tensile energy.
 
     Examples
     --------
@@ -118,6 +130,8 @@ class FabricMaterial:
     description: str = ""
     source: str = ""
     membrane_source: dict = field(default_factory=dict)
+    tensile: dict = field(default_factory=dict)
+    membrane_tension: float | None = None
     _twist_default: bool = field(default=False, init=False, repr=False)
 
     def __post_init__(self):
@@ -137,6 +151,33 @@ class FabricMaterial:
             need(key, getattr(self, key) > 0, f"{key} > 0")
         need("nu12", 0 <= self.nu12 and self.nu12**2 * self.E22 / self.E11 < 1,
              "0 <= nu12 and nu12² E22/E11 < 1 (positive definite membrane stiffness)")
+        need("tensile", set(self.tensile) <= {"E11", "E22"}, "keys among E11, E22")
+
+    def at_tension(self, tension: float) -> "FabricMaterial":
+        """Copy whose E11 and E22 are their tensile curves' tangents at ``tension`` [N/m].
+
+        Directions without a curve (a stiffness given as a number) keep theirs. The tension
+        is the one the specimen carries (e.g. :func:`drape.cusick.skirt_tension`): a fabric's
+        curve is convex, so at a drape's load its tangent lies far below the stiffness that
+        stores the test's energy (:mod:`constitutive.tensile`).
+
+        Examples
+        --------
+        >>> from constitutive.tensile import DEFAULT_TENSILE
+        >>> m = FabricMaterial("demo", 0.2, None, BendingLaw(k1=4e-6), BendingLaw(k1=4e-6),
+        ...                    tensile={"E11": DEFAULT_TENSILE, "E22": DEFAULT_TENSILE})
+        >>> d = m.at_tension(0.05)
+        >>> round(d.E11), d.E22 == d.E11, d.G12
+        (272, True, 50.0)
+        """
+        if not self.tensile:
+            return self
+        values = {key: curve.tangent(tension) for key, curve in self.tensile.items()}
+        source = {key: f"tangent at T = {tension:.4g} N/m of the {curve.describe()} "
+                       f"({self.membrane_source.get(key, 'default')})"
+                  for key, curve in self.tensile.items()}
+        return self.replace(membrane_source={**self.membrane_source, **source},
+                            membrane_tension=float(tension), **values)
 
     def describe(self) -> dict:
         """What summary.json records of the material (SI): areal mass, thickness, twist
@@ -158,6 +199,7 @@ class FabricMaterial:
                 "twist_rigidity_source": "default sqrt(k1_warp k1_weft)" if self._twist_default
                                          else "given",
                 "membrane": membrane,
+                "membrane_tension_N_per_m": self.membrane_tension,
                 "kes_si": {k: float(v) for k, v in (self.kes or {}).items()}}
 
     def simulated_kes(self, **profile_kw) -> dict:
@@ -211,6 +253,7 @@ class FabricMaterial:
         if overridden:
             changes["membrane_source"] = {**self.membrane_source,
                                           **dict.fromkeys(overridden, "case [model.membrane]")}
+            changes["tensile"] = {k: c for k, c in self.tensile.items() if k not in overridden}
         try:
             return self.replace(**changes)
         except ValueError as err:
@@ -250,7 +293,8 @@ def _calibrate(B, HB2, eps_f, eta, profile, f2_ratio=0.0):
 def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thickness=None, *,
                       eps_f=20.0, eta=0.5, f2_ratio=0.0, accel_time=None, twist_rigidity=None,
                       description="",
-                      source="", membrane_source=None, sheet=None, **membrane) -> FabricMaterial:
+                      source="", membrane_source=None, sheet=None, tensile=None,
+                      **membrane) -> FabricMaterial:
     """Build a material from KES summary values only (all arguments SI).
 
     Parameters
@@ -279,6 +323,8 @@ def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thic
         Where each membrane value comes from (:attr:`FabricMaterial.membrane_source`).
     sheet : dict, optional
         Other KES sheet values (SI), kept in ``kes`` beside B and 2HB.
+    tensile : dict, optional
+        Tensile curves behind E11 and E22 (:attr:`FabricMaterial.tensile`).
     **membrane
         E11, E22, nu12, G12 [N/m].
 
@@ -314,7 +360,8 @@ def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thic
                           kes={"B_warp": B_warp, "B_weft": B_weft, "HB2_warp": HB2_warp, "HB2_weft": HB2_weft,
                                **(sheet or {})},
                           description=description, source=source,
-                          membrane_source=dict(membrane_source or {}), **membrane)
+                          membrane_source=dict(membrane_source or {}), tensile=dict(tensile or {}),
+                          **membrane)
 
 
 # ---------------------------------------------------------------- TOML schema (KES units)
@@ -407,6 +454,19 @@ class MaterialSpec(_Strict):
             sources.update(why)
         return values, sources
 
+    def tensile_curves(self) -> dict:
+        """The tensile curve behind E11 and E22 where no number gives them: the ``[kes]``
+        sheet's, else :data:`constitutive.tensile.DEFAULT_TENSILE` (whose linear stiffness
+        storing the energy is the default 10⁴ N/m)."""
+        sheet = {} if self.kes is None else self.kes.tensile_curves()
+        curves = {}
+        for key in ("E11", "E22"):
+            if key in sheet:
+                curves[key] = sheet[key][0]
+            elif getattr(self.membrane, key) is None and (self.kes is None or key not in self.kes.membrane()[0]):
+                curves[key] = DEFAULT_TENSILE
+        return curves
+
 
 def available_materials() -> list[str]:
     """Names of the bundled materials (``cases/materials/*.toml``)."""
@@ -429,7 +489,8 @@ def _resolve(name_or_path) -> Path:
 def material_from_spec(spec: MaterialSpec, where: str = "material") -> FabricMaterial:
     """Build a :class:`FabricMaterial` from a validated spec (KES units → SI)."""
     membrane, membrane_source = spec.membrane_values()
-    common = dict(areal_mass=to_si(spec.weight, "weight"),
+    tensile = spec.tensile_curves()
+    common = dict(tensile=tensile, areal_mass=to_si(spec.weight, "weight"),
                   thickness=None if spec.thickness is None else to_si(spec.thickness, "thickness"),
                   twist_rigidity=None if spec.twist_rigidity is None else to_si(spec.twist_rigidity, "B"),
                   description=spec.description, source=spec.source, membrane_source=membrane_source,

@@ -93,12 +93,35 @@ def build_material(case: Case):
         material = load_material(spec.name if spec.name is not None else spec.path)
     membrane = {} if case.model.membrane is None else case.model.membrane.model_dump(exclude_none=True)
     try:
-        return material.with_overrides(
+        material = material.with_overrides(
             {d: spec.law_overrides(d) for d in ("warp", "weft")}, friction=spec.friction,
             bending_scale=spec.bending_scale, areal_mass=spec.areal_mass,
             thickness=spec.thickness, twist_rigidity=case.model.twist_rigidity, **membrane)
     except MaterialError as err:
         raise RunInputError(str(err)) from None
+    tension = membrane_tension(case, material)
+    try:
+        return material if tension is None else material.at_tension(tension)
+    except ValueError as err:
+        raise RunInputError(f"model.membrane_tension: {err}") from None
+
+
+def membrane_tension(case: Case, material) -> float | None:
+    """The tension [N/m] at which the shell's membrane is taken on the fabric's tensile
+    curve (``[model] membrane_tension``), or ``None`` for the stiffness storing the KES
+    test's energy (the plate has no membrane)."""
+    value = case.model.membrane_tension
+    if case.model.kinematics != "large" or value == "secant":
+        return None
+    if value != "auto":
+        return float(value)
+    gravity = case.load.gravity
+    if case.mesh.kind != "cusick" or gravity is None:
+        return None
+    from drape.cusick import skirt_tension
+
+    return skirt_tension(material.areal_mass * G0 * abs(gravity.factor),
+                         case.mesh.specimen_diameter / 2.0, case.mesh.disc_diameter / 2.0)
 
 
 def build_model(case: Case, mesh, material):

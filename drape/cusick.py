@@ -47,6 +47,7 @@ __all__ = [
     "boundary_radius",
     "find_nodes",
     "drape_coefficient",
+    "skirt_tension",
     "drape_analysis",
     "plot_top_view",
     "cusick_post",
@@ -263,6 +264,33 @@ def drape_coefficient(shadow_area: float, specimen_radius: float, disc_radius: f
     a_spec, a_disc = np.pi * specimen_radius**2, np.pi * disc_radius**2
     return float((shadow_area - a_disc) / (a_spec - a_disc))
 
+
+
+def skirt_tension(weight: float, specimen_radius: float, disc_radius: float) -> float:
+    """Mean meridional tension [N/m] of a Cusick specimen's hanging skirt, over its area.
+
+    Hanging from the disc's edge, the material at radius ``r`` carries the weight of the
+    annulus outside it, ``T(r) = w (R² − r²) / (2 r)`` per unit of its reference width (the
+    hem carries none, the disc's edge the whole overhang). Its mean over the annulus
+    ``r_d < r < R`` is ``w (2R + r_d)(R − r_d) / (3 (R + r_d))``: the operating point on the
+    fabric's tensile curve at which the shell's linear membrane is taken
+    (:mod:`constitutive.tensile`).
+
+    Parameters
+    ----------
+    weight : float
+        w = ρ_A g, the fabric's weight per area [N/m²].
+    specimen_radius, disc_radius : float
+        R and r_d [m].
+
+    Examples
+    --------
+    >>> round(skirt_tension(1.0, 0.127, 0.0635) / 0.0635, 6)   # R = 2 r_d: 5 r_d / 9
+    0.555556
+    """
+    _check_radii(specimen_radius, disc_radius)
+    R, a = specimen_radius, disc_radius
+    return float(weight * (2.0 * R + a) * (R - a) / (3.0 * (R + a)))
 
 @dataclass
 class CusickResult:

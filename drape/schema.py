@@ -9,7 +9,8 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, Union
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator, model_validator
+from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainValidator, WithJsonSchema,
+                      field_validator, model_validator)
 
 from constitutive.material import KesFabricSpec
 from drape.settling import DEFAULT_OUT_OF_BALANCE
@@ -274,6 +275,20 @@ class Membrane(_Section):
     """In-plane shear stiffness [N/m] (woven fabric: soft in shear)."""
 
 
+def _membrane_tension(value):
+    """``auto``, ``secant``, or a positive tension in N/m (a number, or a string with units)."""
+    if value in ("auto", "secant"):
+        return value
+    rule = "must be 'auto', 'secant' or a tension > 0 (a number in N/m or a string like '0.05 N/m')"
+    try:
+        tension = _quantity("N/m").func(value)
+    except ValueError as err:
+        raise ValueError(f"{rule}; {err}") from None
+    if isinstance(tension, bool) or not isinstance(tension, (int, float)) or not tension > 0:
+        raise ValueError(rule)
+    return float(tension)
+
+
 class ModelSpec(_Section):
     """[model]: the structural model."""
 
@@ -291,6 +306,14 @@ class ModelSpec(_Section):
     membrane: Membrane | None = None
     """Membrane stiffness (large kinematics only); default: the material's, else
     E11 = E22 = 1e4 N/m, G12 = 50 N/m."""
+    membrane_tension: Annotated[Union[Literal["auto", "secant"], float], PlainValidator(_membrane_tension),
+                                WithJsonSchema({"anyOf": [{"enum": ["auto", "secant"]},
+                                                          {"type": "number"}]})] = "auto"
+    """Large kinematics: the tension [N/m] at which E11 and E22 are taken on the fabric's
+    tensile curve (a KES sheet's EMT, LT, WT, else the default curve; a stiffness given as a
+    number is kept). ``auto``: on a Cusick mesh the mean tension of the hanging skirt
+    (ρ_A g (2R + r_d)(R − r_d) / (3 (R + r_d)), about 0.05 N/m), elsewhere ``secant``;
+    ``secant``: the linear stiffness that stores the KES test's energy (default 1e4 N/m)."""
     translational_inertia: bool = True
     """``false`` drops the areal mass from the inertia (pure bending, as in the KES-FB
     tester; small kinematics only)."""
@@ -320,7 +343,7 @@ class ModelSpec(_Section):
             raise _rule("@.membrane_stabilization needs @.membrane_strain_degree")
         # options of the large-rotation shell, against their defaults
         for key, default in (("membrane", None), ("membrane_strain_degree", None),
-                             ("viscous_tangent", "symmetric")):
+                             ("viscous_tangent", "symmetric"), ("membrane_tension", "auto")):
             if getattr(self, key) != default and self.kinematics != "large":
                 raise _rule(
                     f"@.{key} is only used with @.kinematics = 'large' (got '{self.kinematics}')"

@@ -80,7 +80,9 @@ def test_the_catalogue_and_the_validation_fabrics_are_inside_the_ranges():
 
 # --------------------------------------------------------------------------- membrane
 def membrane(**sheet):
-    over = [f"material.kes.{k}={v}" for k, v in sheet.items()]
+    """The membrane a sheet builds, as the stiffness storing the tensile energy (a Cusick
+    case would otherwise take the tangent at its skirt's tension: tests/test_tensile.py)."""
+    over = [f"material.kes.{k}={v}" for k, v in sheet.items()] + ["model.membrane_tension='secant'"]
     return build_material(load_case(CUSICK_KES, over)).describe()["membrane"]
 
 
@@ -102,13 +104,14 @@ def test_tensile_stiffness_stores_the_measured_energy_at_the_measured_strain(giv
     sheet = {"EMT": 100 * eps_m, "WT": wt, "LT": wt / (fm * eps_m / 2)}
     m = membrane(**{f"{k}_weft": sheet[k] for k in given})
     assert m["E22"]["value"] == pytest.approx(2 * fm / ((n + 1) * eps_m) * GF / 1e-2, rel=1e-9)
-    assert m["E22"]["source"].startswith("KES ") and m["E11"]["source"] == "default"
+    assert "KES EMT" in m["E22"]["source"] or "KES LT" in m["E22"]["source"]
+    assert m["E11"]["source"] == "default"
 
 
-def test_strain_alone_gives_the_secant_and_a_direct_stiffness_is_taken_as_is():
+def test_strain_alone_takes_the_default_linearity_and_a_direct_stiffness_is_taken_as_is():
     m = membrane(EMT_warp=5.0, E_weft=2000.0)
-    assert m["E11"]["value"] == pytest.approx(500.0 / 0.05 * GF / 1e-2, rel=1e-12)
-    assert "secant" in m["E11"]["source"]
+    assert m["E11"]["value"] == pytest.approx(0.65 * 500.0 / 0.05 * GF / 1e-2, rel=1e-12)
+    assert "with the default LT = 0.65" in m["E11"]["source"]
     assert m["E22"]["value"] == pytest.approx(2000.0 * GF / 1e-2, rel=1e-12)
 
 
@@ -134,7 +137,13 @@ def test_a_material_file_cannot_give_a_stiffness_twice(tmp_path):
 
 def test_summary_json_says_which_membrane_values_came_from_the_sheet(tmp_path):
     """A tiny Cusick run of a sheet with G and the warp tensile values, E22 set by the case:
-    the shell is built with them and summary.json names the source of each."""
+    the shell is built with them and summary.json names the source of each. E11 is the warp
+    curve's tangent at the skirt's mean tension, checked here by differentiating the power
+    law numerically at the strain where it carries that tension."""
+    from scipy.optimize import brentq
+
+    from drape.cusick import skirt_tension
+
     from drape.run import run_case
 
     case = load_case(CUSICK_KES, [
@@ -146,9 +155,16 @@ def test_summary_json_says_which_membrane_values_came_from_the_sheet(tmp_path):
     assert written == json.loads(json.dumps(summary["material_properties"]))
     mem = written["membrane"]
     assert mem["G12"]["value"] == pytest.approx(0.6 * GF / 1e-2 * 180 / math.pi, rel=1e-12)
-    assert mem["E11"]["value"] == pytest.approx(0.65 * 500 / 0.04 * GF / 1e-2, rel=1e-12)
+    tension = skirt_tension(written["areal_mass_kg_per_m2"] * 9.80665, 0.15, 0.09)
+    assert written["membrane_tension_N_per_m"] == pytest.approx(tension, rel=1e-12)
+    fm, eps_m = 500 * GF / 1e-2, 0.04
+    curve = lambda e: fm * (e / eps_m) ** (2 / 0.65 - 1)     # noqa: E731
+    e = brentq(lambda x: curve(x) - tension, 0.0, eps_m, xtol=1e-16)
+    h = 1e-4 * e
+    assert mem["E11"]["value"] == pytest.approx((curve(e + h) - curve(e - h)) / (2 * h), rel=1e-6)
     assert (mem["E22"]["source"], mem["nu12"]["source"]) == ("case [model.membrane]", "default")
-    assert mem["G12"]["source"].startswith("KES G") and mem["E11"]["source"].startswith("KES LT·Fm/εm")
+    assert mem["G12"]["source"].startswith("KES G")
+    assert mem["E11"]["source"].startswith("tangent at T = ") and "KES EMT_warp = 4 %" in mem["E11"]["source"]
     assert written["kes_si"]["HG2"] == pytest.approx(0.8 * GF / 1e-2, rel=1e-12)
     assert written["thickness_m"] == pytest.approx(3e-4, rel=1e-12)
 
