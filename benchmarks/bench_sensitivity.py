@@ -21,11 +21,11 @@ chosen from physics or the literature as stated:
     the excess of static over kinetic friction reported for fibre assemblies (up to some tens
     of per cent; Morton & Hearle, *Physical properties of textile fibres*).
 ``friction_off``  ``material.friction = false``: the calibrated elastic part alone (k1 ≈ B).
-``membrane_E``  ``material.kes.E_warp`` = ``E_weft``, default 1e4 N/m. Low 3e3 N/m (in
-    KES-FB1 terms E = LT·Fm/εm with Fm = 500 gf/cm: EMT ≈ 10 % at LT = 0.65, a loose or
-    stretchy weave), high 3e4 N/m (EMT ≈ 1 %, a tight low-crimp weave): the span of woven
-    fabrics. A fabric's tensile stiffness is 10¹⁰ times its bending rigidity per m², so a DC
-    that moves with it shows membrane locking, not physics.
+``membrane_tension``  ``model.membrane_tension``: the tension at which the membrane is taken
+    on the tensile curve (no tensile values on the sheet: LT = 0.65, εm = 3.19 %), default the
+    skirt's mean tension T̄ = 0.056 N/m (E11 = E22 ≈ 290 N/m). Low T̄/3, high 3 T̄ (E × 0.57 and
+    × 1.77, as E ∝ T^(1 − 1/m)): the tension along a meridian runs from 2.7 T̄ at the disc's edge
+    to nothing at the hem, and the factor also spans the sheets' spread of LT and EMT.
 ``shear_G12``  ``material.kes.G``, default G12 = 50 N/m (G ≈ 0.89 gf/(cm·deg)). Low
     G = 0.3 gf/(cm·deg) (G12 ≈ 17 N/m), high 2.7 gf/(cm·deg) (G12 ≈ 152 N/m): factor 3 either
     way, inside the 0.2-5 gf/(cm·deg) of apparel fabrics (constitutive/kes_sheet.py). Folds
@@ -109,6 +109,7 @@ def factors(case) -> list[Factor]:
         raise StudyError("the base case must be a Cusick case with [material.kes], "
                          "[load.gravity] and [load.perturbation]")
     mesh = case.mesh
+    tension = _membrane_tension(case)
     low_mesh = _coarser(mesh)
     low_label = (f"{low_mesh['mesh.n_radial']} × {low_mesh['mesh.n_circumferential']}"
                  if "mesh.n_radial" in low_mesh else f"size {low_mesh['mesh.target_size']} m")
@@ -123,11 +124,10 @@ def factors(case) -> list[Factor]:
             Level("high", "0.7", {"material.kes.f2_ratio": "0.7"}, "high"))),
         Factor("friction_off", "friction", "from 2HB", (
             Level("off", "off", {"material.friction": "false"}, "low"),)),
-        Factor("membrane_E", "membrane E11 = E22", f"{case_membrane(case, 'E11'):g} N/m", (
-            Level("low", "3e3 N/m", {"material.kes.E_warp": "3e3 N/m",
-                                     "material.kes.E_weft": "3e3 N/m"}, "low"),
-            Level("high", "3e4 N/m", {"material.kes.E_warp": "3e4 N/m",
-                                      "material.kes.E_weft": "3e4 N/m"}, "high"))),
+        Factor("membrane_tension", "membrane taken at tension T", f"{tension:.3g} N/m", (
+            Level("low", f"{tension / 3:.3g} N/m", {"model.membrane_tension": f"{tension / 3!r}"}, "low"),
+            Level("high", f"{3 * tension:.3g} N/m", {"model.membrane_tension": f"{3 * tension!r}"},
+                  "high"))),
         Factor("shear_G12", "in-plane shear G12", f"{case_membrane(case, 'G12'):g} N/m", (
             Level("low", "17 N/m", {"material.kes.G": "0.3"}, "low"),
             Level("high", "152 N/m", {"material.kes.G": "2.7"}, "high"))),
@@ -165,6 +165,16 @@ def case_membrane(case, key: str) -> float:
     from drape.build import build_material
 
     return float(getattr(build_material(case), key))
+
+
+def _membrane_tension(case) -> float:
+    """The tension [N/m] at which the base case takes its membrane."""
+    from drape.build import build_material
+
+    tension = build_material(case).membrane_tension
+    if tension is None:
+        raise StudyError("the base case takes no membrane tension (model.membrane_tension = 'secant')")
+    return float(tension)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -134,7 +134,7 @@ def test_bench_levels_are_valid_cases_of_the_wool(benchmark_script):
     case = load_case(WOOL)
     factors = bench.factors(case)
     names = [f.name for f in factors]
-    for expected in ("friction_length", "friction_order", "friction_off", "membrane_E",
+    for expected in ("friction_length", "friction_order", "friction_off", "membrane_tension",
                      "shear_G12", "perturbation_amplitude", "perturbation_spectrum",
                      "perturbation_duration", "perturbation_seed", "gravity_ramp", "damping",
                      "mesh"):
