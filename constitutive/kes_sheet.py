@@ -11,6 +11,8 @@ key                     unit (bare number)  meaning
 ``thickness``           mm                  T, thickness at 0.5 gf/cm² (KES-FB3)
 ``B_warp``, ``B_weft``  gf·cm²/cm           bending rigidity, slope of M(κ) over 0.5–1.5 cm⁻¹
 ``HB2_warp``, …         gf·cm/cm            2HB, bending hysteresis width at |κ| = 1 cm⁻¹
+``B_bias``              gf·cm²/cm           bending rigidity of a bias specimen (45° to warp and
+                                            weft, KES-FB2): gives the twist rigidity
 ``G``                   gf/(cm·degree)      shear rigidity, slope of the shear force per length
                                             against the shear angle over 0.5–5° (KES-FB1, under
                                             10 gf/cm tension; the mean of the two directions)
@@ -49,6 +51,7 @@ bounds (e.g. a weight in g/m² below 100) cannot be told from a real fabric.
   ``E = 2 WT / εm² = LT · Fm / εm``, is E11 or E22 of the material; a drape case linearises
   the curve at the tension its specimen carries instead (``[model] membrane_tension``).
   ``E_warp`` / ``E_weft`` give a linear stiffness directly instead.
+* ``B_bias`` gives the twist rigidity (see :meth:`KesSpec.twist_rigidity`).
 * 2HG and 2HG5 are kept with the material (and in summary.json) but not used: the membrane
   is elastic.
 
@@ -223,6 +226,9 @@ class KesSpec(_Strict):
                                                         "B and 2HB.")
     accel_time: float | None = Field(None, gt=0, description="Acceleration time of the simulated "
                                                             "KES-FB test [s] (default: the tester's).")
+    B_bias: sheet_field("B", None, "Bending rigidity of a bias specimen, 45° to warp and weft "
+                                   "(KES-FB2) [gf·cm²/cm]; gives the twist rigidity "
+                                   "D_t = 2 B_bias − (B_warp + B_weft)/2 (default √(B_warp B_weft)).")
     G: sheet_field("G", None, "Shear rigidity G [gf/(cm·deg)], mean of warp and weft; builds the "
                               "membrane's G12 = 56.19 G N/m (default G12 = 50 N/m).")
     HG2: sheet_field("HG2", None, "Shear hysteresis 2HG at 0.5° [gf/cm]; recorded, not used (the "
@@ -239,6 +245,32 @@ class KesSpec(_Strict):
     E_warp: sheet_field("E", None, "Linear tensile stiffness per width, warp [gf/cm], instead of "
                                    "EMT/LT/WT.")
     E_weft: sheet_field("E", None, "Linear tensile stiffness per width, weft [gf/cm].")
+
+    @model_validator(mode="after")
+    def _bias_above_its_bound(self):
+        if self.B_bias is not None and not self.B_bias > (self.B_warp + self.B_weft) / 4.0:
+            raise ValueError(f"@.B_bias = {self.B_bias:g} gf·cm²/cm breaks B_bias > (B_warp + B_weft)/4 = "
+                             f"{(self.B_warp + self.B_weft) / 4.0:.4g}: a bias specimen bent without "
+                             "twisting is at least that stiff (the twist rigidity must be > 0)")
+        return self
+
+    def twist_rigidity(self) -> float | None:
+        """D_t [gf·cm²/cm] from ``B_bias``, or ``None``.
+
+        The KES-FB2 specimen is 20 cm wide and bent over a 1 cm gap between chucks that hold
+        its whole width, so it bends cylindrically: curvature κ along the specimen's length
+        n = (cos θ, sin θ), none across it, no twist. With the bending energy
+        ½B₁κ₁₁² + ½B₂κ₂₂² + D_t κ₁₂² (docs/theory.md) its rigidity is
+        B(θ) = B₁cos⁴θ + B₂sin⁴θ + 2 D_t sin²θ cos²θ, and at 45°
+        ``D_t = 2 B_bias − (B_warp + B_weft)/2``. (A narrow strip free to twist, as in a
+        cantilever test, would give the compliance form instead, 4/B₄₅ = 1/B₁ + 1/B₂ + 2/D_t.)
+
+        >>> KesSpec(B_warp=0.1, B_weft=0.1, HB2_warp=0.05, HB2_weft=0.05, B_bias=0.1).twist_rigidity()
+        0.1
+        """
+        if self.B_bias is None:
+            return None
+        return 2.0 * self.B_bias - (self.B_warp + self.B_weft) / 2.0
 
     @model_validator(mode="after")
     def _tensile_complete(self):
@@ -304,7 +336,7 @@ class KesSpec(_Strict):
 
     def extras_si(self) -> dict:
         """The sheet's values other than B and 2HB that were given, in SI (N/m, strain, J/m²)."""
-        names = {"G": "G", "HG2": "HG2", "HG2_5": "HG2", "Fm": "E_tensile"}
+        names = {"B_bias": "B", "G": "G", "HG2": "HG2", "HG2_5": "HG2", "Fm": "E_tensile"}
         names.update({f"{k}_{d}": k if k != "E" else "E_tensile" for k in (*_TENSILE, "E") for d in _DIRS})
         out = {}
         for key, kind in names.items():

@@ -101,6 +101,8 @@ class FabricMaterial:
     membrane_source : dict
         Where each of E11, E22, nu12, G12 comes from (text); a key missing means "given in
         code" (or the default, if it has the default value).
+    twist_source : str
+        Where a given ``twist_rigidity`` comes from (text, for summary.json).
     tensile : dict
         ``{"E11": TensileCurve, "E22": ...}`` for the directions whose stiffness comes from a
         tensile curve (a KES sheet's, or :data:`constitutive.tensile.DEFAULT_TENSILE`);
@@ -132,6 +134,7 @@ class FabricMaterial:
     membrane_source: dict = field(default_factory=dict)
     tensile: dict = field(default_factory=dict)
     membrane_tension: float | None = None
+    twist_source: str = ""
     _twist_default: bool = field(default=False, init=False, repr=False)
 
     def __post_init__(self):
@@ -197,7 +200,7 @@ class FabricMaterial:
                 "thickness_m": None if self.thickness is None else float(self.thickness),
                 "twist_rigidity_Nm": float(self.twist_rigidity),
                 "twist_rigidity_source": "default sqrt(k1_warp k1_weft)" if self._twist_default
-                                         else "given",
+                                         else self.twist_source or "given",
                 "membrane": membrane,
                 "membrane_tension_N_per_m": self.membrane_tension,
                 "kes_si": {k: float(v) for k, v in (self.kes or {}).items()}}
@@ -249,6 +252,8 @@ class FabricMaterial:
         changes = {k: v for k, v in changes.items() if v is not None}
         if not changes:
             return self
+        if "twist_rigidity" in changes:
+            changes["twist_source"] = "case [model] twist_rigidity"
         overridden = [k for k in DEFAULT_MEMBRANE if k in changes]
         if overridden:
             changes["membrane_source"] = {**self.membrane_source,
@@ -293,7 +298,7 @@ def _calibrate(B, HB2, eps_f, eta, profile, f2_ratio=0.0):
 def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thickness=None, *,
                       eps_f=20.0, eta=0.5, f2_ratio=0.0, accel_time=None, twist_rigidity=None,
                       description="",
-                      source="", membrane_source=None, sheet=None, tensile=None,
+                      source="", membrane_source=None, sheet=None, tensile=None, twist_source="",
                       **membrane) -> FabricMaterial:
     """Build a material from KES summary values only (all arguments SI).
 
@@ -319,6 +324,8 @@ def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thic
         :data:`constitutive.kes.DEFAULT_ACCEL_TIME`).
     twist_rigidity : float, optional
         [N·m], default sqrt(k1_warp k1_weft).
+    twist_source : str, optional
+        Where a given twist rigidity comes from (:attr:`FabricMaterial.twist_source`).
     membrane_source : dict, optional
         Where each membrane value comes from (:attr:`FabricMaterial.membrane_source`).
     sheet : dict, optional
@@ -356,7 +363,7 @@ def material_from_kes(name, B_warp, B_weft, HB2_warp, HB2_weft, areal_mass, thic
     if unknown:
         raise MaterialError(f"{name}: unknown membrane key(s) {sorted(unknown)}; known: {sorted(DEFAULT_MEMBRANE)}")
     return FabricMaterial(name=name, areal_mass=float(areal_mass), thickness=thickness, warp=laws["warp"],
-                          weft=laws["weft"], twist_rigidity=twist_rigidity,
+                          weft=laws["weft"], twist_rigidity=twist_rigidity, twist_source=twist_source,
                           kes={"B_warp": B_warp, "B_weft": B_weft, "HB2_warp": HB2_warp, "HB2_weft": HB2_weft,
                                **(sheet or {})},
                           description=description, source=source,
@@ -435,6 +442,8 @@ class MaterialSpec(_Strict):
             raise ValueError("give both [warp] and [weft], or neither (then [kes])")
         if self.warp is None and self.kes is None:
             raise ValueError("needs [warp] and [weft] law tables or a [kes] table of summary values")
+        if self.kes is not None and self.kes.B_bias is not None and self.twist_rigidity is not None:
+            raise ValueError("twist_rigidity and kes.B_bias are both given: keep one")
         if self.kes is not None:
             for key in self.kes.membrane()[0]:
                 if getattr(self.membrane, key) is not None:
@@ -453,6 +462,17 @@ class MaterialSpec(_Strict):
             values.update(sheet)
             sources.update(why)
         return values, sources
+
+    def twist(self) -> dict:
+        """``twist_rigidity`` [N·m] and ``twist_source`` where the file gives one (the
+        ``twist_rigidity`` key, or the ``[kes]`` bias rigidity), else nothing (the default)."""
+        if self.twist_rigidity is not None:
+            return {"twist_rigidity": to_si(self.twist_rigidity, "B"),
+                    "twist_source": "material file twist_rigidity"}
+        if self.kes is not None and self.kes.B_bias is not None:
+            return {"twist_rigidity": to_si(self.kes.twist_rigidity(), "B"),
+                    "twist_source": f"KES B_bias = {self.kes.B_bias:g} gf·cm²/cm: 2 B_bias − (B_warp + B_weft)/2"}
+        return {}
 
     def tensile_curves(self) -> dict:
         """The tensile curve behind E11 and E22 where no number gives them: the ``[kes]``
@@ -492,7 +512,7 @@ def material_from_spec(spec: MaterialSpec, where: str = "material") -> FabricMat
     tensile = spec.tensile_curves()
     common = dict(tensile=tensile, areal_mass=to_si(spec.weight, "weight"),
                   thickness=None if spec.thickness is None else to_si(spec.thickness, "thickness"),
-                  twist_rigidity=None if spec.twist_rigidity is None else to_si(spec.twist_rigidity, "B"),
+                  **spec.twist(),
                   description=spec.description, source=spec.source, membrane_source=membrane_source,
                   **membrane)
     kes_si = None

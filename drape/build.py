@@ -116,7 +116,7 @@ def membrane_tension(case: Case, material) -> float | None:
     if value != "auto":
         return float(value)
     gravity = case.load.gravity
-    if case.mesh.kind != "cusick" or gravity is None:
+    if case.mesh.kind != "cusick" or gravity is None or gravity.factor == 0:
         return None
     from drape.cusick import skirt_tension
 

@@ -179,3 +179,41 @@ def test_f2_ratio_of_a_case_sheet_builds_second_order_friction_with_the_same_B_a
         assert (b.B, b.HB2) == pytest.approx((a.B, a.HB2), rel=1e-12)
     with pytest.raises(CaseError, match="material.kes.f2_ratio"):
         load_case(CUSICK_KES, ["material.kes.f2_ratio=1.0"])
+
+
+# --------------------------------------------------------------------------- bias bending
+@pytest.mark.parametrize("theta_deg, B_bias", [(45.0, 0.1), (45.0, 0.06), (30.0, 0.1)])
+def test_a_sheets_bias_rigidity_is_the_plates_cylindrical_bending_rigidity(theta_deg, B_bias):
+    """A KES-FB2 bias specimen bends cylindrically. The plate's bending energy of the uniform
+    curvature field w = ½ κ (n·x)², n at θ to the warp, is ½ B(θ) κ² per area, with
+    B(θ) = B₁cos⁴θ + B₂sin⁴θ + 2 D_t sin²θ cos²θ; at 45° it is the sheet's B_bias. Argyris
+    elements hold the quadratic exactly (no friction: 2HB = 0, so k1 = B)."""
+    from constitutive.units import to_si
+    from drape.plate import KirchhoffPlate
+    from meshes import rectangle
+
+    case = load_case(CUSICK_KES, [f"material.kes.B_bias={B_bias}", "material.kes.HB2_warp=0",
+                                  "material.kes.HB2_weft=0"])
+    material = build_material(case)
+    B1, B2 = to_si(0.085, "B"), to_si(0.062, "B")       # the case's B_warp, B_weft
+    assert (material.warp.k1, material.weft.k1) == pytest.approx((B1, B2), rel=1e-12)
+    plate = KirchhoffPlate(rectangle(0.02, 0.01, 4, 2), material, element="argyris")
+    kappa, c, s = 40.0, math.cos(math.radians(theta_deg)), math.sin(math.radians(theta_deg))
+    u = plate.basis.project(lambda x: 0.5 * kappa * (c * x[0] + s * x[1]) ** 2)
+    B_theta = B1 * c**4 + B2 * s**4 + 2 * material.twist_rigidity * s**2 * c**2
+    assert plate.strain_energy(u) / 2e-4 == pytest.approx(0.5 * B_theta * kappa**2, rel=1e-8)
+    if theta_deg == 45.0:
+        assert B_theta == pytest.approx(to_si(B_bias, "B"), rel=1e-12)
+    assert build_material(case).describe()["twist_rigidity_source"].startswith("KES B_bias")
+
+
+def test_a_bias_rigidity_below_its_bound_or_given_twice_is_refused(tmp_path):
+    with pytest.raises(CaseError, match=r"material.kes.B_bias = 0.03 gf·cm²/cm breaks B_bias > "
+                                        r"\(B_warp \+ B_weft\)/4 = 0.03675"):
+        load_case(CUSICK_KES, ["material.kes.B_bias=0.03"])
+    text = (ROOT / "cases" / "materials" / "kes_example.toml").read_text()
+    path = tmp_path / "twice.toml"
+    path.write_text(text.replace("eta = 0.5", "eta = 0.5\nB_bias = 0.08").replace(
+        'weight = 12.5', 'weight = 12.5\ntwist_rigidity = 0.07'))
+    with pytest.raises(MaterialError, match="twist_rigidity and kes.B_bias are both given"):
+        load_material(path)
