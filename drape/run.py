@@ -249,6 +249,11 @@ def main(argv: list[str] | None = None) -> int:
                   f"material {getattr(parts.material, 'name', '?')}, "
                   f"t_end = {case.solver.t_end:g} s, dt = {case.solver.dt:g} s, "
                   f"analysis {case.case.analysis}")
+            tension = getattr(parts.material, "membrane_tension", None)
+            if tension is not None:
+                m = parts.material
+                print(f"  membrane taken at T = {tension:.3g} N/m: E11 = {m.E11:.4g} N/m, "
+                      f"E22 = {m.E22:.4g} N/m, G12 = {m.G12:.4g} N/m")
             return 0
         out = Path(args.out) if args.out else Path("out") / case.case.name
         source = f"from {args.case}" + "".join(f" --set {o}" for o in args.overrides)

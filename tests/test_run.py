@@ -185,7 +185,17 @@ def test_check_builds_without_running(tmp_path, capsys, monkeypatch):
     assert runner.main([str(CASES / "kes_strip.toml"), "--check"]) == 0
     out = capsys.readouterr().out
     assert out.startswith("kes_strip: OK — KirchhoffPlate, ") and "analysis kes" in out
+    assert "membrane taken at" not in out               # a plate has no membrane
     assert not any(tmp_path.iterdir())                 # nothing written
+    assert runner.main([str(CASES / "validation" / "wool_tropical.toml"), "--check"]) == 0
+    from constitutive.tensile import DEFAULT_TENSILE
+    from drape.cusick import skirt_tension
+
+    tension = skirt_tension(0.1629 * 9.80665, 0.127, 0.0635)    # the wool's W, its 25.4/12.7 cm
+    E = DEFAULT_TENSILE.tangent(tension)
+    line = capsys.readouterr().out.splitlines()[1]
+    assert line == (f"  membrane taken at T = {tension:.3g} N/m: E11 = {E:.4g} N/m, E22 = {E:.4g} N/m, "
+                    "G12 = 50 N/m")
 
 
 def test_cli_missing_boundary_exits_1_listing_the_mesh_boundaries(tmp_path, capsys):
