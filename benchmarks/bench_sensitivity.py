@@ -108,8 +108,13 @@ def factors(case) -> list[Factor]:
     if kes is None or pert is None or case.load.gravity is None or case.case.analysis != "cusick":
         raise StudyError("the base case must be a Cusick case with [material.kes], "
                          "[load.gravity] and [load.perturbation]")
+    from drape.build import build_material
+
     mesh = case.mesh
-    tension = _membrane_tension(case)
+    material = build_material(case)       # SI, its membrane taken at the case's tension
+    if material.membrane_tension is None:
+        raise StudyError("the base case takes no membrane tension (model.membrane_tension = 'secant')")
+    tension = material.membrane_tension
     low_mesh = _coarser(mesh)
     low_label = (f"{low_mesh['mesh.n_radial']} × {low_mesh['mesh.n_circumferential']}"
                  if "mesh.n_radial" in low_mesh else f"size {low_mesh['mesh.target_size']} m")
@@ -128,7 +133,7 @@ def factors(case) -> list[Factor]:
             Level("low", f"{tension / 3:.3g} N/m", {"model.membrane_tension": f"{tension / 3!r}"}, "low"),
             Level("high", f"{3 * tension:.3g} N/m", {"model.membrane_tension": f"{3 * tension!r}"},
                   "high"))),
-        Factor("shear_G12", "in-plane shear G12", f"{case_membrane(case, 'G12'):g} N/m", (
+        Factor("shear_G12", "in-plane shear G12", f"{material.G12:g} N/m", (
             Level("low", "17 N/m", {"material.kes.G": "0.3"}, "low"),
             Level("high", "152 N/m", {"material.kes.G": "2.7"}, "high"))),
         Factor("perturbation_amplitude", "perturbation amplitude", f"{pert.amplitude:g}", (
@@ -158,23 +163,6 @@ def factors(case) -> list[Factor]:
             Level("refine1", f"refine {mesh.refine + 1}",
                   {"mesh.refine": str(mesh.refine + 1)}, "high"))),
     ]
-
-
-def case_membrane(case, key: str) -> float:
-    """The membrane stiffness ``key`` [N/m] the base case's material gets."""
-    from drape.build import build_material
-
-    return float(getattr(build_material(case), key))
-
-
-def _membrane_tension(case) -> float:
-    """The tension [N/m] at which the base case takes its membrane."""
-    from drape.build import build_material
-
-    tension = build_material(case).membrane_tension
-    if tension is None:
-        raise StudyError("the base case takes no membrane tension (model.membrane_tension = 'secant')")
-    return float(tension)
 
 
 def main(argv: list[str] | None = None) -> int:

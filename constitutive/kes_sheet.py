@@ -70,14 +70,14 @@ from typing import Annotated
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
-from constitutive.tensile import DEFAULT_LINEARITY, TensileCurve
+from constitutive.tensile import DEFAULT_LINEARITY, MAX_LOAD_KES, TensileCurve
 from constitutive.units import G0, to_si, ureg
 
 __all__ = ["SHEET", "SheetKey", "read_sheet_value", "sheet_field", "KesSpec", "KesFabricSpec",
            "TENSILE_LOAD", "LT_TOLERANCE"]
 
 #: KES-FB1 standard maximum tensile load Fm [gf/cm].
-TENSILE_LOAD = 500.0
+TENSILE_LOAD = MAX_LOAD_KES
 #: Relative disagreement allowed between WT and LT·Fm·εm/2 when all three are given.
 LT_TOLERANCE = 0.10
 

@@ -476,16 +476,12 @@ class MaterialSpec(_Strict):
 
     def tensile_curves(self) -> dict:
         """The tensile curve behind E11 and E22 where no number gives them: the ``[kes]``
-        sheet's, else :data:`constitutive.tensile.DEFAULT_TENSILE` (whose linear stiffness
-        storing the energy is the default 10⁴ N/m)."""
-        sheet = {} if self.kes is None else self.kes.tensile_curves()
-        curves = {}
-        for key in ("E11", "E22"):
-            if key in sheet:
-                curves[key] = sheet[key][0]
-            elif getattr(self.membrane, key) is None and (self.kes is None or key not in self.kes.membrane()[0]):
-                curves[key] = DEFAULT_TENSILE
-        return curves
+        sheet's, else (where the stiffness is the default) :data:`constitutive.tensile.DEFAULT_TENSILE`,
+        whose linear stiffness storing the energy is the default 10⁴ N/m."""
+        sheet = {} if self.kes is None else {k: c for k, (c, _) in self.kes.tensile_curves().items()}
+        sources = self.membrane_values()[1]
+        return {key: sheet.get(key, DEFAULT_TENSILE) for key in ("E11", "E22")
+                if key in sheet or sources[key] == "default"}
 
 
 def available_materials() -> list[str]:

@@ -34,10 +34,13 @@ from dataclasses import dataclass
 
 from constitutive.units import to_si
 
-__all__ = ["TensileCurve", "DEFAULT_LINEARITY", "DEFAULT_SECANT", "DEFAULT_TENSILE", "MAX_LOAD"]
+__all__ = ["TensileCurve", "DEFAULT_LINEARITY", "DEFAULT_SECANT", "DEFAULT_TENSILE", "MAX_LOAD",
+           "MAX_LOAD_KES"]
 
-#: KES-FB1 standard maximum load Fm, 500 gf/cm, in N/m.
-MAX_LOAD = to_si(500.0, "E_tensile")
+#: KES-FB1 standard maximum load Fm [gf/cm], as a sheet gives it.
+MAX_LOAD_KES = 500.0
+#: The same in N/m.
+MAX_LOAD = to_si(MAX_LOAD_KES, "E_tensile")
 #: Linearity LT of a woven fabric whose sheet gives none.
 DEFAULT_LINEARITY = 0.65
 #: Linear stiffness storing the default curve's tensile energy, LT Fm/εm [N/m].

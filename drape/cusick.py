@@ -265,7 +265,6 @@ def drape_coefficient(shadow_area: float, specimen_radius: float, disc_radius: f
     return float((shadow_area - a_disc) / (a_spec - a_disc))
 
 
-
 def skirt_tension(weight: float, specimen_radius: float, disc_radius: float) -> float:
     """Mean meridional tension [N/m] of a Cusick specimen's hanging skirt, over its area.
 
@@ -291,6 +290,7 @@ def skirt_tension(weight: float, specimen_radius: float, disc_radius: float) -> 
     _check_radii(specimen_radius, disc_radius)
     R, a = specimen_radius, disc_radius
     return float(weight * (2.0 * R + a) * (R - a) / (3.0 * (R + a)))
+
 
 @dataclass
 class CusickResult:
