@@ -20,6 +20,9 @@ Studies (each a set of runs of cases/cusick_*.toml with dotted overrides):
                    for a side-by-side.
 * ``robustness``   KES fabrics B = 0.01, 0.03, 0.1, 0.3 gf·cm²/cm, W = 8, 25 mg/cm², 2HB = 0.4 B
                    and 1.2 B (per cm), with friction, and each (B, W) without: every run must settle.
+* ``timestep``     the two validation fabrics (cases/validation/, seed 0) with the step of the
+                   lowering (``solver.dt``, 0.05 s in the cases) at 0.025 and 0.01 s: DC change
+                   (points) and node counts against the finest step.
 * ``convergence``  Fabric 1 on the default mesh (6 x 72, radial_grading 4), on 8 x 96 (x4/3) and
                    on one uniform refinement (mesh.refine = 1, 12 x 144; about 35 minutes): DC change
                    (points) and node counts. Add e.g. ``--set material.bending_scale=10`` for a
@@ -56,6 +59,11 @@ STIFF_SCALE = 1000
 CONVERGENCE_MESHES = {"fabric1_8x96": ["mesh.n_radial=8", "mesh.n_circumferential=96"],
                       "fabric1_refine1": ["mesh.refine=1"]}
 
+
+#: Steps of the lowering tried against the cases' own (solver.dt = 0.05 s).
+TIMESTEP_DTS = (0.025, 0.01)
+#: The cases of the time-step study.
+TIMESTEP_CASES = ("wool_tropical", "cotton_broadcloth")
 
 #: KES sheets (B gf·cm²/cm, 2HB gf·cm/cm, W mg/cm²) of the speed study, both directions alike.
 KES_FABRICS = {"cotton": (0.118, 0.124, 12.38), "wool": (0.067, 0.033, 16.29),
@@ -140,6 +148,11 @@ def studies(which: list[str], extra: list[str]):
                     add(f"B{B:g}_W{W:g}_2HB{f:g}B", "cases/cusick_kes.toml", kes_overrides(B, f * B, W))
                 add(f"B{B:g}_W{W:g}_no_friction", "cases/cusick_kes.toml",
                     kes_overrides(B, 0.4 * B, W, friction=False))
+    if "timestep" in which:
+        for name in TIMESTEP_CASES:
+            add(name, f"cases/validation/{name}.toml")
+            for dt in TIMESTEP_DTS:
+                add(f"{name}_dt{dt:g}", f"cases/validation/{name}.toml", [f"solver.dt={dt!r}"])
     if "convergence" in which:
         add("cusick_fabric1", "cases/cusick_fabric1.toml")
         for label, overrides in CONVERGENCE_MESHES.items():
@@ -212,6 +225,15 @@ def _checks(records):
             out.append(f"convergence ({fine}): DC {a['dc_percent']:.2f} -> {b['dc_percent']:.2f} % "
                        f"(|change| {abs(a['dc_percent'] - b['dc_percent']):.2f} points, rule < 2); "
                        f"nodes {a['n_nodes']} -> {b['n_nodes']}")
+    for name in TIMESTEP_CASES:
+        finest = by.get(f"{name}_dt{min(TIMESTEP_DTS):g}")
+        if finest is None or name not in by:
+            continue
+        steps = [(0.05, by[name])] + [(dt, by[f"{name}_dt{dt:g}"]) for dt in TIMESTEP_DTS
+                                      if f"{name}_dt{dt:g}" in by]
+        out.append(f"time step ({name}): " + "; ".join(
+            f"dt {dt:g} s: DC {r['dc_percent']:.2f} % ({r['dc_percent'] - finest['dc_percent']:+.2f}), "
+            f"{r['n_nodes']} nodes" for dt, r in steps))
     return out
 
 
@@ -249,7 +271,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--study", nargs="+", default=["fabrics"],
-                    choices=["fabrics", "friction", "sweep", "convergence", "speed", "robustness", "all"],
+                    choices=["fabrics", "friction", "sweep", "convergence", "speed", "robustness", "timestep",
+                             "all"],
                     help="which studies to run (default: fabrics)")
     ap.add_argument("--out", default="out/bench_cusick", help="output directory")
     ap.add_argument("--jobs", type=int, default=1, help="runs in parallel (processes)")

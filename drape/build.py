@@ -16,7 +16,7 @@ from drape.case import Case, check_boundaries
 from drape.loads import kes_curvature, load_amplitudes
 
 __all__ = ["RunInputError", "Parts", "build", "build_mesh", "build_material", "build_model",
-           "fold_perturbation", "initial_fields"]
+           "rayleigh_coefficients", "fold_perturbation", "initial_fields"]
 
 log = logging.getLogger("drape.build")
 
@@ -124,11 +124,22 @@ def membrane_tension(case: Case, material) -> float | None:
                          case.mesh.specimen_diameter / 2.0, case.mesh.disc_diameter / 2.0)
 
 
+def rayleigh_coefficients(case: Case, material) -> tuple[float, float]:
+    """``(alpha, beta)`` of ``C = alpha M + beta K0``: ``[model.damping] alpha`` plus the air
+    drag per unit area over the fabric's areal mass (a drag ``c v`` per area is ``(c/ρ_A) ρ_A v``).
+    """
+    damping = case.model.damping
+    alpha = damping.alpha
+    if damping.air_drag > 0.0:
+        alpha += damping.air_drag / float(material.areal_mass)
+    return alpha, damping.beta
+
+
 def build_model(case: Case, mesh, material):
     """The structural model for ``[model] kinematics`` with supports, loads and damping."""
     spec = case.model
     loads = load_amplitudes(case)
-    rayleigh = (spec.damping.alpha, spec.damping.beta)
+    rayleigh = rayleigh_coefficients(case, material)
     if spec.kinematics == "small":
         from drape.plate import KirchhoffPlate, pure_bending_rotations
 

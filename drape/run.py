@@ -28,7 +28,7 @@ import numpy as np
 
 from drape.analyses import ANALYSES, RunContext
 from drape.build import (Parts, RunInputError, build, build_material, build_mesh, initial_fields,
-                         solver_options)
+                         rayleigh_coefficients, solver_options)
 from drape.case import Case, CaseError, describe_schema, dump_case, load_case
 from drape.checkpoint import Checkpoint, read_checkpoint
 from drape.output import OutputWriter, read_history
@@ -165,6 +165,9 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
         }
         if hasattr(parts.material, "describe"):   # SI values, membrane sources, KES sheet given
             summary["material_properties"] = parts.material.describe()
+        alpha, beta = rayleigh_coefficients(case, parts.material)
+        summary["damping"] = {"alpha_per_s": alpha, "beta_s": beta,
+                              "air_drag_N_s_per_m3": case.model.damping.air_drag}
         if case.measured is not None:
             summary["measured"] = case.measured.model_dump()
         if status in ("completed", "settled") and case.case.analysis != "none":
@@ -254,6 +257,9 @@ def main(argv: list[str] | None = None) -> int:
                 m = parts.material
                 print(f"  membrane taken at T = {tension:.3g} N/m: E11 = {m.E11:.4g} N/m, "
                       f"E22 = {m.E22:.4g} N/m, G12 = {m.G12:.4g} N/m")
+            alpha, beta = rayleigh_coefficients(case, parts.material)
+            if alpha or beta:
+                print(f"  damping C = {alpha:.3g} 1/s M + {beta:.3g} s K0")
             return 0
         out = Path(args.out) if args.out else Path("out") / case.case.name
         source = f"from {args.case}" + "".join(f" --set {o}" for o in args.overrides)

@@ -253,10 +253,14 @@ class CaseMaterial(LawOverride):
 
 # --------------------------------------------------------------------------- [model]
 class Damping(_Section):
-    """[model.damping]: Rayleigh damping C = alpha M + beta K0 (added to the law's own d)."""
+    """[model.damping]: Rayleigh damping C = (alpha + air_drag / areal mass) M + beta K0
+    (added to the law's own d)."""
 
     alpha: Q("1/s", ge=0) = 0.0
     """Mass-proportional coefficient [1/s]."""
+    air_drag: Q("N*s/m^3", ge=0) = 0.0
+    """Linear air drag: a force −c v per unit area of fabric [N·s/m³], the same for every
+    fabric; it enters as the mass-proportional coefficient c / areal mass."""
     beta: Q("s", ge=0) = 0.0
     """Stiffness-proportional coefficient [s] (K0: tangent stiffness at rest)."""
 

@@ -15,7 +15,7 @@ from drape.ensemble import SEED_KEY, ensemble_stats, seed_rows, seeded
 ROOT = Path(__file__).resolve().parents[1]
 CUSICK = ROOT / "cases" / "cusick_kes.toml"
 #: A Cusick specimen of 12 triangles, two time steps.
-TINY = ["mesh.n_radial=1", "mesh.n_circumferential=12", "solver.t_end=0.02"]
+TINY = ["mesh.n_radial=1", "mesh.n_circumferential=12", "solver.t_end=0.02", "solver.dt=0.01"]
 
 
 def test_each_row_is_repeated_per_seed_and_grouped_by_its_name():

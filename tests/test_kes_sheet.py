@@ -149,10 +149,13 @@ def test_summary_json_says_which_membrane_values_came_from_the_sheet(tmp_path):
     case = load_case(CUSICK_KES, [
         "material.kes.G=0.6", "material.kes.EMT_warp=4", "material.kes.LT_warp=0.65",
         "model.membrane.E22=5000", "material.kes.HG2=0.8", "mesh.n_radial=1",
-        "mesh.n_circumferential=12", "solver.t_end=0.02", "case.analysis='none'", "stop.out_of_balance=0.5"])
+        "mesh.n_circumferential=12", "solver.t_end=0.02", "solver.dt=0.01", "case.analysis='none'", "stop.out_of_balance=0.5"])
     summary = run_case(case, tmp_path / "run", quiet=True)
-    written = json.loads((tmp_path / "run" / "summary.json").read_text())["material_properties"]
+    on_disk = json.loads((tmp_path / "run" / "summary.json").read_text())
+    written = on_disk["material_properties"]
     assert written == json.loads(json.dumps(summary["material_properties"]))
+    assert on_disk["damping"] == {"alpha_per_s": pytest.approx(0.3 / written["areal_mass_kg_per_m2"]),
+                                  "beta_s": 0.0, "air_drag_N_s_per_m3": 0.3}
     mem = written["membrane"]
     assert mem["G12"]["value"] == pytest.approx(0.6 * GF / 1e-2 * 180 / math.pi, rel=1e-12)
     tension = skirt_tension(written["areal_mass_kg_per_m2"] * 9.80665, 0.15, 0.09)

@@ -163,6 +163,32 @@ def test_damping_matrices_give_the_beam_modal_damping(law_d, rayleigh):
     assert abs(zeta / expected - 1) < 0.01
 
 
+def test_air_drag_is_mass_damping_over_the_areal_mass():
+    """``[model.damping] air_drag = c`` (a drag c v per unit area) gives mode 1 of a cantilever
+    the damping ratio ζ = c / (2 ρ_A ω1) + d ω1 / (2 k1) (drag plus the law's viscosity), within
+    1 %, through the case path (ω1 of the Euler–Bernoulli beam)."""
+    from drape.build import build
+    from drape.case import parse_case
+
+    c, length = 0.3, 0.1      # long: the drag term dominates the law's
+    case = parse_case({
+        "case": {"name": "drag"}, "material": {"name": "fabric1", "friction": False},
+        "mesh": {"kind": "strip", "length": length, "width": 0.01, "nx": 6, "ny": 1,
+                 "element": "argyris"},
+        "model": {"supports": {"clamped": "clamped"}, "damping": {"air_drag": f"{c} N*s/m^3"}},
+        "solver": {"dt": 0.01, "t_end": 0.1}})
+    parts = build(case)
+    plate = parts.model
+    free = np.setdiff1d(np.arange(plate.ndofs), plate.fixed_dofs)
+    K, M, C = (A[free][:, free].tocsc() for A in (plate.K0, plate.M, plate.C))
+    _, phi = spla.eigsh(K, k=1, M=M, sigma=0, which="LM")
+    phi = phi[:, 0]
+    zeta = (phi @ C @ phi) / (2 * np.sqrt((phi @ K @ phi) * (phi @ M @ phi)))
+    rho, law = parts.material.areal_mass, parts.material.warp
+    omega = 1.8751**2 / length**2 * np.sqrt(law.k1 / rho)
+    assert abs(zeta / (c / (2 * rho * omega) + law.d * omega / (2 * law.k1)) - 1) < 0.01
+
+
 def test_friction_never_adds_energy_free_vibration():
     """Friction work from the virgin state stays >= 0 and the energy balance holds.
 

@@ -17,7 +17,7 @@ from drape.output import OutputWriter
 ROOT = Path(__file__).resolve().parents[1]
 CUSICK = ROOT / "cases" / "cusick_kes.toml"
 #: A coarse Cusick annulus for two steps: enough for a drape coefficient, a top view and a PVD.
-TINY = ["mesh.n_radial=1", "mesh.n_circumferential=12", "solver.t_end=0.02"]
+TINY = ["mesh.n_radial=1", "mesh.n_circumferential=12", "solver.t_end=0.02", "solver.dt=0.01"]
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 

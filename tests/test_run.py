@@ -193,9 +193,10 @@ def test_check_builds_without_running(tmp_path, capsys, monkeypatch):
 
     tension = skirt_tension(0.1629 * 9.80665, 0.127, 0.0635)    # the wool's W, its 25.4/12.7 cm
     E = DEFAULT_TENSILE.tangent(tension)
-    line = capsys.readouterr().out.splitlines()[1]
-    assert line == (f"  membrane taken at T = {tension:.3g} N/m: E11 = {E:.4g} N/m, E22 = {E:.4g} N/m, "
-                    "G12 = 50 N/m")
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[1] == (f"  membrane taken at T = {tension:.3g} N/m: E11 = {E:.4g} N/m, E22 = {E:.4g} N/m, "
+                        "G12 = 50 N/m")
+    assert lines[2] == f"  damping C = {0.3 / 0.1629:.3g} 1/s M + 0 s K0"    # the air drag over ρ_A
 
 
 def test_cli_missing_boundary_exits_1_listing_the_mesh_boundaries(tmp_path, capsys):

@@ -136,7 +136,7 @@ def test_bench_levels_are_valid_cases_of_the_wool(benchmark_script):
     names = [f.name for f in factors]
     for expected in ("friction_length", "friction_order", "friction_off", "membrane_tension",
                      "shear_G12", "perturbation_amplitude", "perturbation_spectrum",
-                     "perturbation_duration", "perturbation_seed", "gravity_ramp", "damping",
+                     "perturbation_duration", "perturbation_seed", "gravity_ramp", "air_drag",
                      "mesh"):
         assert expected in names
     mesh = {f.name: f for f in factors}["mesh"].levels[0].keys
@@ -151,7 +151,7 @@ def test_bench_tiny_runs_the_factors_and_writes_table_json_and_chart(tmp_path, c
     # --tiny, made tinier still (12 triangles, two steps) to keep the test short
     args = ["--tiny", "--factors", "friction_off,friction_order", "--out", str(out),
             "--workers", "2", "--quiet", "--set", "mesh.n_radial=1",
-            "--set", "mesh.n_circumferential=12", "--set", "solver.t_end=0.02"]
+            "--set", "mesh.n_circumferential=12", "--set", "solver.t_end=0.02", "--set", "solver.dt=0.01"]
     assert bench.main(args) == 0
     printed = capsys.readouterr().out
     study = json.loads((out / "sensitivity.json").read_text())
@@ -204,7 +204,7 @@ def test_fold_preference_tiny_runs_each_mode_with_and_without_friction(tmp_path,
     bench = benchmark_script("fold_preference")
     out = tmp_path / "folds"
     args = [str(WOOL), "--tiny", "--lobes", "2,3", "--out", str(out), "--workers", "2",
-            "--set", "mesh.n_radial=1", "--set", "mesh.n_circumferential=12", "--set", "solver.t_end=0.02"]
+            "--set", "mesh.n_radial=1", "--set", "mesh.n_circumferential=12", "--set", "solver.t_end=0.02", "--set", "solver.dt=0.01"]
     assert bench.main(args) == 0
     results = {r["name"]: r for r in read_results(out / "results.csv")}
     assert sorted(results) == ["n2_friction", "n2_frictionless", "n3_friction", "n3_frictionless"]

@@ -15,7 +15,7 @@ from drape.sweep import read_results
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases" / "validation"
-TINY = ["mesh.n_radial=1", "mesh.n_circumferential=12", "solver.t_end=0.02"]
+TINY = ["mesh.n_radial=1", "mesh.n_circumferential=12", "solver.t_end=0.02", "solver.dt=0.01"]
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
