@@ -560,7 +560,8 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
                 if not size.failed():
                     raise ConvergenceError(
                         f"integration stopped at t = {state.t:.6g} s: the step failed at the smallest allowed "
-                        f"size dt/2^{max_cuts} = {size.h_min:.3g} s. Last failure: {err}", err.info) from None
+                        f"size dt/2^{max_cuts} = {size.h_min:.3g} s (a smaller dt or more max_cuts allow "
+                        f"smaller steps). Last failure: {err}", err.info) from None
                 continue
             info.error = size.error(state, new, coefficients[0])
             if not size.accept(info.error, h, landed and h < size.h):
