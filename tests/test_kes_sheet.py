@@ -149,7 +149,8 @@ def test_summary_json_says_which_membrane_values_came_from_the_sheet(tmp_path):
     case = load_case(CUSICK_KES, [
         "material.kes.G=0.6", "material.kes.EMT_warp=4", "material.kes.LT_warp=0.65",
         "model.membrane.E22=5000", "material.kes.HG2=0.8", "mesh.n_radial=1",
-        "mesh.n_circumferential=12", "solver.t_end=0.02", "solver.dt=0.01", "case.analysis='none'", "stop.out_of_balance=0.5"])
+        "mesh.n_circumferential=12", "solver.t_end=0.02", "solver.dt=0.01", "case.analysis='none'",
+        "stop.out_of_balance=0.5"])
     summary = run_case(case, tmp_path / "run", quiet=True)
     on_disk = json.loads((tmp_path / "run" / "summary.json").read_text())
     written = on_disk["material_properties"]
