@@ -126,6 +126,7 @@ class StepControl:
 
     dt: float                      # size of the next step, before landing on hit times
     successes: int = 0             # converged steps since the size last changed
+    patience: int | None = None    # converged steps the size must wait before it doubles
 
 
 @dataclass
@@ -439,17 +440,27 @@ def _solve_step(problem: _StepProblem, predictor, tol, policy, solver, fallbacks
 
 
 class _StepSize:
-    """Step size of :func:`integrate`: halved on failure; then doubled after ``grow_after``
-    successes up to ``dt_max``, or set by the local error estimate."""
+    """Step size of :func:`integrate`: halved on failure; then doubled after ``patience``
+    successes up to ``dt_max``, or set by the local error estimate.
+
+    ``patience`` starts at ``grow_after`` and doubles with every failure (up to
+    ``MAX_BACKOFF × grow_after``); once a doubled size has converged it is ``grow_after``
+    again. Where a size keeps failing for a while, as where a limp fabric folds, the step
+    stays short longer each time instead of being cut again after every few steps."""
+
+    MAX_BACKOFF = 16
 
     def __init__(self, dt, dt_max, max_cuts, grow_after, error_tolerance, control):
         self.dt, self.dt_max, self.grow_after = dt, dt_max, int(grow_after)
         self.h_min = dt / 2.0 ** int(max_cuts)
         self.error_tolerance = error_tolerance
-        self.h, self.successes = dt, 0
+        self.h, self.successes, self.patience = dt, 0, self.grow_after
+        self.trial = False          # the size was just doubled and has not converged yet
         if control is not None:
             self.h = float(np.clip(control.dt, self.h_min, dt_max))
             self.successes = int(control.successes)
+            if control.patience is not None:
+                self.patience = max(int(control.patience), self.grow_after)
 
     def can_cut(self) -> bool:
         """Whether a failed step can still be halved."""
@@ -460,6 +471,8 @@ class _StepSize:
         if not self.can_cut():
             return False
         self.h, self.successes = max(0.5 * self.h, self.h_min), 0
+        self.patience = min(2 * self.patience, self.MAX_BACKOFF * self.grow_after)
+        self.trial = False
         return True
 
     def error(self, old: NewmarkState, new: NewmarkState, beta: float) -> float:
@@ -475,8 +488,10 @@ class _StepSize:
         """Next size after a converged step of size ``h_taken``; False: redo with the new size."""
         if self.error_tolerance is None:
             self.successes += 1
-            if self.successes >= self.grow_after and self.h < self.dt_max:
-                self.h, self.successes = min(2.0 * self.h, self.dt_max), 0
+            if self.trial:
+                self.patience, self.trial = self.grow_after, False
+            if self.successes >= self.patience and self.h < self.dt_max:
+                self.h, self.successes, self.trial = min(2.0 * self.h, self.dt_max), 0, True
             return True
         factor = float(np.clip(0.9 * max(eta, 1e-12) ** (-1.0 / 3.0), 0.5, 2.0))
         if eta > 1.0 and h_taken > self.h_min * (1 + 1e-12):
@@ -578,7 +593,7 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
             if bar is not None:
                 bar.update(new.t - state.t)
             state = new
-            info.control = StepControl(size.h, size.successes)
+            info.control = StepControl(size.h, size.successes, size.patience)
             if on_step is not None and on_step(state, info) is True:
                 break
     finally:

@@ -407,6 +407,32 @@ def test_step_cutting_and_regrowth():
     assert len(model.committed) == len(infos) + 1  # one commit per converged step, none for failures
 
 
+def test_a_size_that_keeps_failing_is_retried_ever_later():
+    """Where steps over 0.013 s fail for a long stretch (0.2 < t < 1.2 s), each failure doubles
+    the successes the size must wait before it doubles (2, then 8, 16, 32 at most for
+    grow_after = 2): 0.025 s is retried 3 times in the stretch, not after every second step
+    (about 40 cuts); once it converges the wait is 2 again and the step grows back to dt."""
+    last = {"t": 0.0}
+
+    def fail(model, t):
+        return t - last["t"] > 0.013 and 0.2 < t < 1.2
+
+    model = Oscillator(fail=fail)
+    infos = []
+
+    def on_step(s, info):
+        last["t"] = s.t
+        infos.append((s.t, info.dt, info.cuts, info.control.patience))
+
+    integrate(model, 3.0, 0.05, NewmarkState(0.0, np.ones(1), np.zeros(1), -model.k * np.ones(1)),
+              grow_after=2, on_step=on_step)
+    in_stretch = [(t, dt, c) for t, dt, c, _ in infos if 0.2 < t < 1.2]
+    assert min(dt for _, dt, _ in in_stretch) == pytest.approx(0.0125)
+    assert sum(c for *_, c in in_stretch) == 5      # 0.05 and 0.025 at entry, then 0.025 thrice
+    assert max(p for *_, p in infos) == 32
+    assert infos[-1][1] == pytest.approx(0.05) and infos[-1][3] == 2    # grown back, patience too
+
+
 def test_step_grows_beyond_dt_up_to_dt_max_and_follows_an_overdamped_creep():
     """Pseudo-transient continuation: an overdamped oscillator (slow root -1.01/s) creeping home.
 
