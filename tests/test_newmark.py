@@ -384,25 +384,32 @@ def test_pardiso_factorises_by_cholesky_until_a_matrix_is_indefinite():
 
 
 # --------------------------------------------------------------------------- robustness
-def test_step_cutting_and_regrowth():
-    """A model that cannot take steps longer than 0.013 s: dt = 0.05 is cut to 0.0125, then grows back."""
+def _steps_with_long_steps_failing(window, t_end):
+    """Integrate an oscillator with dt = 0.05, grow_after = 2, where steps longer than 0.013 s
+    fail inside ``window``; the model and ``(t, dt, cuts, patience)`` of each converged step."""
     last = {"t": 0.0}
 
     def fail(model, t):
-        return t - last["t"] > 0.013 and 0.2 < t < 0.4
+        return t - last["t"] > 0.013 and window[0] < t < window[1]
 
     model = Oscillator(fail=fail)
     infos = []
 
     def on_step(s, info):
         last["t"] = s.t
-        infos.append((s.t, info.dt, info.cuts))
+        infos.append((s.t, info.dt, info.cuts, info.control.patience))
 
-    integrate(model, 1.0, 0.05, NewmarkState(0.0, np.ones(1), np.zeros(1), -model.k * np.ones(1)),
+    integrate(model, t_end, 0.05, NewmarkState(0.0, np.ones(1), np.zeros(1), -model.k * np.ones(1)),
               grow_after=2, on_step=on_step)
-    dts = np.array([d for _, d, _ in infos])
+    return model, infos
+
+
+def test_step_cutting_and_regrowth():
+    """A model that cannot take steps longer than 0.013 s: dt = 0.05 is cut to 0.0125, then grows back."""
+    model, infos = _steps_with_long_steps_failing((0.2, 0.4), 1.0)
+    dts = np.array([d for _, d, *_ in infos])
     assert np.isclose(infos[-1][0], 1.0)
-    assert dts.min() == pytest.approx(0.0125) and max(c for *_, c in infos) == 2
+    assert dts.min() == pytest.approx(0.0125) and max(c for _, _, c, _ in infos) == 2
     assert dts[-3] == pytest.approx(0.05)          # grew back
     assert len(model.committed) == len(infos) + 1  # one commit per converged step, none for failures
 
@@ -412,23 +419,10 @@ def test_a_size_that_keeps_failing_is_retried_ever_later():
     the successes the size must wait before it doubles (2, then 8, 16, 32 at most for
     grow_after = 2): 0.025 s is retried 3 times in the stretch, not after every second step
     (about 40 cuts); once it converges the wait is 2 again and the step grows back to dt."""
-    last = {"t": 0.0}
-
-    def fail(model, t):
-        return t - last["t"] > 0.013 and 0.2 < t < 1.2
-
-    model = Oscillator(fail=fail)
-    infos = []
-
-    def on_step(s, info):
-        last["t"] = s.t
-        infos.append((s.t, info.dt, info.cuts, info.control.patience))
-
-    integrate(model, 3.0, 0.05, NewmarkState(0.0, np.ones(1), np.zeros(1), -model.k * np.ones(1)),
-              grow_after=2, on_step=on_step)
-    in_stretch = [(t, dt, c) for t, dt, c, _ in infos if 0.2 < t < 1.2]
-    assert min(dt for _, dt, _ in in_stretch) == pytest.approx(0.0125)
-    assert sum(c for *_, c in in_stretch) == 5      # 0.05 and 0.025 at entry, then 0.025 thrice
+    _, infos = _steps_with_long_steps_failing((0.2, 1.2), 3.0)
+    in_stretch = [(dt, c) for t, dt, c, _ in infos if 0.2 < t < 1.2]
+    assert min(dt for dt, _ in in_stretch) == pytest.approx(0.0125)
+    assert sum(c for _, c in in_stretch) == 5      # 0.05 and 0.025 at entry, then 0.025 thrice
     assert max(p for *_, p in infos) == 32
     assert infos[-1][1] == pytest.approx(0.05) and infos[-1][3] == 2    # grown back, patience too
 
