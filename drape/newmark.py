@@ -127,6 +127,7 @@ class StepControl:
     dt: float                      # size of the next step, before landing on hit times
     successes: int = 0             # converged steps since the size last changed
     patience: int | None = None    # converged steps the size must wait before it doubles
+    trial: bool = False            # the size was just doubled and has not converged yet
 
 
 @dataclass
@@ -461,6 +462,7 @@ class _StepSize:
             self.successes = int(control.successes)
             if control.patience is not None:
                 self.patience = max(int(control.patience), self.grow_after)
+            self.trial = bool(control.trial)
 
     def can_cut(self) -> bool:
         """Whether a failed step can still be halved."""
@@ -516,7 +518,8 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
     that step. On a Newton failure the step is halved and retried from the last
     converged state, down to ``dt / 2**max_cuts``; only there does a step try the policy's
     fallback tangents (a cut is the cheaper remedy while one is left). The step then grows back: doubled
-    after ``grow_after`` consecutive successes up to ``dt_max`` (default ``dt``;
+    after ``grow_after`` consecutive successes (twice as many after each further failure, until
+    a doubled step converges) up to ``dt_max`` (default ``dt``;
     beyond ``dt`` it is pseudo-transient continuation: a fabric creeping into
     equilibrium under constant loads needs ever fewer, longer steps), or, with
     ``error_tolerance``, set from the local error estimate (a step whose estimate
@@ -593,7 +596,7 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
             if bar is not None:
                 bar.update(new.t - state.t)
             state = new
-            info.control = StepControl(size.h, size.successes, size.patience)
+            info.control = StepControl(size.h, size.successes, size.patience, size.trial)
             if on_step is not None and on_step(state, info) is True:
                 break
     finally:
