@@ -1,5 +1,5 @@
 """Headless plotting also for the doctests collected from the packages; a loader for the
-scripts of ``benchmarks/``."""
+scripts of ``benchmarks/``; the overrides that shrink a Cusick case to a few seconds."""
 import importlib.util
 import os
 from pathlib import Path
@@ -20,3 +20,15 @@ def benchmark_script():
         spec.loader.exec_module(module)
         return module
     return load
+
+
+#: ``--set`` overrides of a Cusick case for plumbing tests: 12 triangles, two 0.01 s steps.
+TINY_CUSICK = ("mesh.n_radial=1", "mesh.n_circumferential=12", "solver.t_end=0.02", "solver.dt=0.01")
+
+
+@pytest.fixture(scope="session")
+def tiny_cusick():
+    """The overrides :data:`TINY_CUSICK`, as a list: a Cusick case that runs in seconds (its
+    figures mean nothing)."""
+    return list(TINY_CUSICK)
+

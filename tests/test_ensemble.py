@@ -14,8 +14,6 @@ from drape.ensemble import SEED_KEY, ensemble_stats, seed_rows, seeded
 
 ROOT = Path(__file__).resolve().parents[1]
 CUSICK = ROOT / "cases" / "cusick_kes.toml"
-#: A Cusick specimen of 12 triangles, two time steps.
-TINY = ["mesh.n_radial=1", "mesh.n_circumferential=12", "solver.t_end=0.02", "solver.dt=0.01"]
 
 
 def test_each_row_is_repeated_per_seed_and_grouped_by_its_name():
@@ -67,13 +65,13 @@ def test_statistics_over_the_finished_seeds_match_the_statistics_module():
     assert one["DC_percent"]["std"] is None and one["nodes"]["agreement"] == "1 of 1 seeds gave 6 nodes"
 
 
-def test_a_tiny_cusick_ensemble_end_to_end(tmp_path, capsys):
+def test_a_tiny_cusick_ensemble_end_to_end(tmp_path, capsys, tiny_cusick):
     table = tmp_path / "fabrics.csv"
     table.write_text("name,material.bending_scale,measured.DC,measured.nodes\nlimp,1,61.5,6\n"
                      "stiff,4,,\n")
     out = tmp_path / "ens"
     code = sweep.main([str(CUSICK), "--table", str(table), "--seeds", "2", "--out", str(out),
-                       "--workers", "1", *sum((["--set", o] for o in TINY), [])])
+                       "--workers", "1", *sum((["--set", o] for o in tiny_cusick), [])])
     assert code == 0
     printed = capsys.readouterr().out
     records = {r["name"]: r for r in sweep.read_results(out / "results.csv")}

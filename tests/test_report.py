@@ -16,13 +16,11 @@ from drape.output import OutputWriter
 
 ROOT = Path(__file__).resolve().parents[1]
 CUSICK = ROOT / "cases" / "cusick_kes.toml"
-#: A coarse Cusick annulus for two steps: enough for a drape coefficient, a top view and a PVD.
-TINY = ["mesh.n_radial=1", "mesh.n_circumferential=12", "solver.t_end=0.02", "solver.dt=0.01"]
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
 @pytest.fixture(scope="module")
-def sweep_dir(tmp_path_factory):
+def sweep_dir(tmp_path_factory, tiny_cusick):
     """A finished three-row Cusick sweep (one row invalid), with its report written by the sweep."""
     tmp = tmp_path_factory.mktemp("report")
     table = tmp / "catalogue.csv"
@@ -30,7 +28,7 @@ def sweep_dir(tmp_path_factory):
                      "limp,0.04,0.03,61.5\nstiff,0.3,0.2,\nbroken,-0.1,0.2,50\n")
     out = tmp / "sweep"
     code = sweep.main([str(CUSICK), "--table", str(table), "--out", str(out), "--workers", "1",
-                       "--quiet", *sum((["--set", o] for o in TINY), [])])
+                       "--quiet", *sum((["--set", o] for o in tiny_cusick), [])])
     assert code == 0
     return out
 

@@ -145,13 +145,13 @@ def test_bench_levels_are_valid_cases_of_the_wool(benchmark_script):
         load_case(WOOL, row.overrides())      # raises for a level that is no valid case
 
 
-def test_bench_tiny_runs_the_factors_and_writes_table_json_and_chart(tmp_path, capsys, benchmark_script):
+def test_bench_tiny_runs_the_factors_and_writes_table_json_and_chart(tmp_path, capsys, benchmark_script,
+                                                                    tiny_cusick):
     bench = benchmark_script("bench_sensitivity")
     out = tmp_path / "sens"
     # --tiny, made tinier still (12 triangles, two steps) to keep the test short
     args = ["--tiny", "--factors", "friction_off,friction_order", "--out", str(out),
-            "--workers", "2", "--quiet", "--set", "mesh.n_radial=1",
-            "--set", "mesh.n_circumferential=12", "--set", "solver.t_end=0.02", "--set", "solver.dt=0.01"]
+            "--workers", "2", "--quiet", *sum((["--set", o] for o in tiny_cusick), [])]
     assert bench.main(args) == 0
     printed = capsys.readouterr().out
     study = json.loads((out / "sensitivity.json").read_text())
@@ -200,11 +200,12 @@ def test_fold_preference_names_the_frictionless_state_of_least_energy(tmp_path, 
     assert bench.measured_nodes(WOOL) == 5
 
 
-def test_fold_preference_tiny_runs_each_mode_with_and_without_friction(tmp_path, capsys, benchmark_script):
+def test_fold_preference_tiny_runs_each_mode_with_and_without_friction(tmp_path, capsys, benchmark_script,
+                                                                        tiny_cusick):
     bench = benchmark_script("fold_preference")
     out = tmp_path / "folds"
     args = [str(WOOL), "--tiny", "--lobes", "2,3", "--out", str(out), "--workers", "2",
-            "--set", "mesh.n_radial=1", "--set", "mesh.n_circumferential=12", "--set", "solver.t_end=0.02", "--set", "solver.dt=0.01"]
+            *sum((["--set", o] for o in tiny_cusick), [])]
     assert bench.main(args) == 0
     results = {r["name"]: r for r in read_results(out / "results.csv")}
     assert sorted(results) == ["n2_friction", "n2_frictionless", "n3_friction", "n3_frictionless"]

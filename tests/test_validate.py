@@ -15,7 +15,6 @@ from drape.sweep import read_results
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases" / "validation"
-TINY = ["mesh.n_radial=1", "mesh.n_circumferential=12", "solver.t_end=0.02", "solver.dt=0.01"]
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
@@ -34,10 +33,10 @@ def test_the_validation_cases_are_the_published_fabrics():
         assert (cases[name].mesh.specimen_diameter, cases[name].mesh.disc_diameter) == (0.254, 0.127)
 
 
-def test_validate_runs_every_case_as_an_ensemble_and_compares(tmp_path, capsys):
+def test_validate_runs_every_case_as_an_ensemble_and_compares(tmp_path, capsys, tiny_cusick):
     out = tmp_path / "validation"
     code = validate.main([str(CASES), "--seeds", "2", "--out", str(out), "--workers", "1",
-                          "--quiet", *sum((["--set", o] for o in TINY), [])])
+                          "--quiet", *sum((["--set", o] for o in tiny_cusick), [])])
     assert code == 0
     printed = capsys.readouterr().out.splitlines()
     records = json.loads((out / "validation.json").read_text())
