@@ -21,7 +21,7 @@ Studies (each a set of runs of cases/cusick_*.toml with dotted overrides):
 * ``robustness``   KES fabrics B = 0.01, 0.03, 0.1, 0.3 gf·cm²/cm, W = 8, 25 mg/cm², 2HB = 0.4 B
                    and 1.2 B (per cm), with friction, and each (B, W) without: every run must settle.
 * ``timestep``     the two validation fabrics (cases/validation/, seed 0) with the step of the
-                   lowering (``solver.dt``, 0.05 s in the cases) at 0.025 and 0.01 s: DC change
+                   lowering (``solver.dt``, the cases' own and 0.025 and 0.01 s): DC change
                    (points) and node counts against the finest step.
 * ``convergence``  Fabric 1 on the default mesh (6 x 72, radial_grading 4), on 8 x 96 (x4/3) and
                    on one uniform refinement (mesh.refine = 1, 12 x 144; about 35 minutes): DC change
@@ -60,8 +60,7 @@ CONVERGENCE_MESHES = {"fabric1_8x96": ["mesh.n_radial=8", "mesh.n_circumferentia
                       "fabric1_refine1": ["mesh.refine=1"]}
 
 
-#: The lowering's step in the validation cases (solver.dt), and the steps tried against it.
-TIMESTEP_CASE_DT = 0.05
+#: Steps of the lowering tried against the validation cases' own ``solver.dt``.
 TIMESTEP_DTS = (0.025, 0.01)
 #: The cases of the time-step study.
 TIMESTEP_CASES = ("wool_tropical", "cotton_broadcloth")
@@ -230,7 +229,10 @@ def _checks(records):
         finest = by.get(f"{name}_dt{min(TIMESTEP_DTS):g}")
         if finest is None or name not in by:
             continue
-        steps = [(TIMESTEP_CASE_DT, by[name])] + [(dt, by[f"{name}_dt{dt:g}"]) for dt in TIMESTEP_DTS
+        from drape.case import load_case
+
+        case_dt = load_case(ROOT / "cases" / "validation" / f"{name}.toml").solver.dt
+        steps = [(case_dt, by[name])] + [(dt, by[f"{name}_dt{dt:g}"]) for dt in TIMESTEP_DTS
                                       if f"{name}_dt{dt:g}" in by]
         out.append(f"time step ({name}): " + "; ".join(
             f"dt {dt:g} s: DC {r['dc_percent']:.2f} % ({r['dc_percent'] - finest['dc_percent']:+.2f}), "
