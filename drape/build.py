@@ -138,8 +138,8 @@ def rayleigh_coefficients(case: Case, material) -> tuple[float, float]:
 def build_model(case: Case, mesh, material):
     """The structural model for ``[model] kinematics`` with supports, loads and damping."""
     spec = case.model
-    loads = load_amplitudes(case)
     rayleigh = rayleigh_coefficients(case, material)
+    loads = load_amplitudes(case, mass_damping=rayleigh[0])
     if spec.kinematics == "small":
         from drape.plate import KirchhoffPlate, pure_bending_rotations
 

@@ -66,7 +66,7 @@ from pathlib import Path
 from pydantic import ValidationError, model_validator
 
 from constitutive.validation import format_errors
-from drape.loads import (Amplitude, EndMoment, Gravity, KesDrive, LoadSpec,  # noqa: F401
+from drape.loads import (Agitation, Amplitude, EndMoment, Gravity, KesDrive, LoadSpec,  # noqa: F401
                          Perturbation, Pressure)
 from drape.schema import (CaseInfo, CusickMesh, Damping, FileMesh, LawOverride,  # noqa: F401
                           CaseMaterial, Membrane, MeshSpec, ModelSpec, OutputSpec,
@@ -126,6 +126,7 @@ class Case(_Section):
                 "stop.out_of_balance needs a dynamic run: solver.quasi_static = true is in "
                 "balance at every step (set stop.out_of_balance = 0 or leave it out)"
             )
+        self._agitation_is_resolved()
         if self.load.perturbation is not None and self.mesh.kind != "cusick":
             raise _rule(f"load.perturbation needs mesh.kind = 'cusick' (got '{self.mesh.kind}')")
         if self.case.analysis == "kes" and self.load.kes is None:
@@ -136,6 +137,20 @@ class Case(_Section):
         if self.case.analysis == "cusick" and self.mesh.kind != "cusick":
             raise _rule(f"case.analysis = 'cusick' needs mesh.kind = 'cusick' (got '{self.mesh.kind}')")
         return self
+
+    def _agitation_is_resolved(self):
+        """Shaking needs inertia, and steps short enough to follow it (Newmark's period error
+        is (ω Δt)²/12: 3 % at 10 steps a cycle)."""
+        shake = self.load.agitation
+        if shake is None:
+            return
+        if self.solver.quasi_static:
+            raise _rule("load.agitation needs a dynamic run (solver.quasi_static = false)")
+        longest = 1.0 / (STEPS_PER_SHAKE * shake.frequency)
+        if self.solver.dt > longest * (1 + 1e-9):
+            raise _rule(f"solver.dt = {self.solver.dt:g} s is too long for load.agitation.frequency"
+                        f" = {shake.frequency:g} Hz: at least {STEPS_PER_SHAKE} steps a cycle "
+                        f"need solver.dt <= {longest:.3g} s")
 
     def _model_can_do_it(self):
         """Loads and supports each kinematics offers (plate: drape.plate, shell: drape.shell)."""
@@ -166,6 +181,9 @@ class Case(_Section):
                 names[f"load.kes.ends[{i}]"] = end
         return names
 
+
+STEPS_PER_SHAKE = 10
+"""Fewest time steps a cycle of ``[load.agitation]`` may take."""
 
 _MESH_VARIANTS = {"strip": StripMesh, "rectangle": RectangleMesh, "cusick": CusickMesh,
                   "file": FileMesh}

@@ -2,8 +2,9 @@
 
 Each load (self-weight, pressure, follower end moment) is a constant times an amplitude
 ``a(t)``: a smooth ramp to 1, or a table of ``(t, a)`` points blended by C¹ cubics
-(:func:`amplitude`). The KES-FB drive imposes the curvature profile of
-:func:`constitutive.kes.kes_profile` (:func:`kes_curvature`).
+(:func:`amplitude`). Shaking the supports (:class:`Agitation`) adds to the self-weight factor.
+The KES-FB drive imposes the curvature profile of :func:`constitutive.kes.kes_profile`
+(:func:`kes_curvature`).
 """
 from __future__ import annotations
 
@@ -12,10 +13,11 @@ from typing import Annotated, Callable, Literal
 import numpy as np
 from pydantic import Field, field_validator, model_validator
 
+from constitutive.units import G0
 from drape.schema import Q, _rule, _Section
 
 __all__ = ["as_function", "amplitude", "Amplitude", "Gravity", "Pressure", "EndMoment", "KesDrive",
-           "Perturbation", "LoadSpec", "load_amplitudes", "kes_curvature"]
+           "Perturbation", "Agitation", "LoadSpec", "load_amplitudes", "kes_curvature"]
 
 
 def as_function(value, name: str, error: type[Exception] = ValueError):
@@ -213,6 +215,81 @@ class Perturbation(_Section):
         return self
 
 
+class Agitation(_Section):
+    """[load.agitation]: the supports shaken up and down, as a drape tester's disc is tapped or
+    vibrated before the drape is read, to free the folds that friction holds.
+
+    The supports' vertical acceleration is a sine burst under a Hann window,
+    ``a(t) = A g sin(2π f τ) sin²(π τ / T)``, ``τ = t − start`` in ``[0, T]``, ``T = cycles / f``:
+    it starts and ends with zero acceleration, jerk and (whole cycles) velocity, so the supports
+    come back to rest. The run is computed in the frame of the supports, where their motion is
+    exactly a change of the weight: ``g → g + a(t)``, plus the air drag ``α ρ_A v(t)`` of the
+    frame's velocity ``v`` (mass damping α; :func:`load_amplitudes`). Displacements stay relative
+    to the supports.
+    """
+
+    acceleration: float = Field(gt=0, le=2)
+    """Peak vertical acceleration of the supports, as a fraction of g."""
+    frequency: Q("Hz", gt=0) = 2.0
+    """Shaking frequency [Hz]. 2 Hz is near the swing frequency of a 6 cm skirt
+    (√(g/L)/2π), where a shake moves the skirt most."""
+    cycles: int = Field(3, ge=2)
+    """Number of whole cycles of the burst (at least 2: then the velocity returns to zero)."""
+    start: Q("s", ge=0) | None = None
+    """Time the burst begins [s]; default: when the other loads stop changing (after the
+    gravity ramp and the perturbation; [load] fills it in)."""
+
+    def window(self) -> tuple[float, float]:
+        """``(start, end)`` of the burst [s].
+
+        >>> Agitation(acceleration=0.3, frequency=2.0, cycles=3, start=2.0).window()
+        (2.0, 3.5)
+        """
+        t0 = self.start or 0.0
+        return t0, t0 + self.cycles / self.frequency
+
+    def support_motion(self, t: float) -> tuple[float, float]:
+        """Vertical ``(acceleration [m/s²], velocity [m/s])`` of the supports at time ``t``.
+
+        The velocity is the exact integral of the acceleration from the burst's start.
+
+        >>> shake = Agitation(acceleration=0.5, frequency=1.0, cycles=2, start=0.0)
+        >>> a, v = shake.support_motion(0.75)
+        >>> round(a / 9.80665, 4), round(v, 4)
+        (-0.4268, -0.314)
+        >>> abs(shake.support_motion(2.0 - 1e-9)[1]) < 1e-12
+        True
+        """
+        t0, t1 = self.window()
+        if not t0 < t < t1:
+            return 0.0, 0.0
+        tau, amp = t - t0, self.acceleration * G0
+        w, W = 2.0 * np.pi * self.frequency, 2.0 * np.pi / (t1 - t0)
+        accel = amp * np.sin(w * tau) * np.sin(0.5 * W * tau) ** 2
+        # ∫ sin(wτ) sin²(Wτ/2) = ∫ sin(wτ)/2 − [sin((w+W)τ) + sin((w−W)τ)]/4, W < w
+        velocity = amp * ((1 - np.cos(w * tau)) / (2 * w)
+                          - ((1 - np.cos((w + W) * tau)) / (w + W)
+                             + (1 - np.cos((w - W) * tau)) / (w - W)) / 4)
+        return float(accel), float(velocity)
+
+    def stroke(self) -> float:
+        """Peak-to-peak vertical travel of the supports during the burst [m].
+
+        >>> round(1e3 * Agitation(acceleration=0.3, frequency=2.0, cycles=3).stroke(), 1)
+        37.7
+        """
+        t = np.linspace(*self.window(), 512 * self.cycles + 1)
+        v = np.array([self.support_motion(ti)[1] for ti in t])
+        z = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))])
+        return float(z.max() - z.min())
+
+    def describe(self) -> dict:
+        """The burst in SI units for summary.json: window, peak acceleration, stroke."""
+        t0, t1 = self.window()
+        return {"start_s": t0, "end_s": t1, "frequency_Hz": self.frequency, "cycles": self.cycles,
+                "peak_acceleration_g": self.acceleration, "stroke_m": self.stroke()}
+
+
 class LoadSpec(_Section):
     """[load]: external actions (any combination)."""
 
@@ -226,9 +303,20 @@ class LoadSpec(_Section):
     """KES-FB imposed-rotation drive, see [load.kes]."""
     perturbation: Perturbation | None = None
     """Initial fold imperfection of a Cusick specimen, see [load.perturbation]."""
+    agitation: Agitation | None = None
+    """The supports shaken before the reading, see [load.agitation]."""
 
-    def end_time(self) -> float:
-        """Time after which no load changes any more (0 if unloaded)."""
+    @model_validator(mode="after")
+    def _shake_once_placed(self):
+        if self.agitation is not None and self.agitation.start is None:
+            self.agitation.start = self.end_time(agitation=False)
+        return self
+
+    def end_time(self, agitation: bool = True) -> float:
+        """Time after which no load changes any more (0 if unloaded); ``agitation=False``:
+        no load but the agitation."""
+        if agitation and self.agitation is not None:
+            return max(self.end_time(agitation=False), self.agitation.window()[1])
         parts = [self.gravity, self.pressure, self.end_moment]
         ends = [p.end_time() for p in parts if p is not None]
         if self.kes is not None:
@@ -238,13 +326,27 @@ class LoadSpec(_Section):
         return max(ends, default=0.0)
 
 
-def load_amplitudes(case) -> dict[str, Callable[[float], float]]:
-    """Time functions of the loads: ``gravity`` (factor), ``pressure`` [Pa], ``end_moment`` [N]."""
+def load_amplitudes(case, mass_damping: float = 0.0) -> dict[str, Callable[[float], float]]:
+    """Time functions of the loads: ``gravity`` (factor), ``pressure`` [Pa], ``end_moment`` [N].
+
+    Shaken supports (``[load.agitation]``) add ``(a + α v) / g`` to the gravity factor: in their
+    frame the inertia of their acceleration ``a`` and the drag ``α ρ_A v`` of their velocity
+    (``mass_damping`` α [1/s], acting on absolute velocities) are weights.
+    """
     load = case.load
     out: dict[str, Callable[[float], float]] = {}
+    weight = None
     if load.gravity is not None:
         g = load.gravity
-        out["gravity"] = lambda t, g=g: g.factor * g.amplitude(t)
+        weight = lambda t, g=g: g.factor * g.amplitude(t)  # noqa: E731
+    if load.agitation is not None:
+        shake, own = load.agitation, weight or (lambda t: 0.0)
+
+        def weight(t: float) -> float:
+            a, v = shake.support_motion(t)
+            return own(t) + (a + mass_damping * v) / G0
+    if weight is not None:
+        out["gravity"] = weight
     if load.pressure is not None:
         p = load.pressure
         out["pressure"] = lambda t, p=p: p.value * p.amplitude(t)

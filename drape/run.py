@@ -168,6 +168,8 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
         alpha, beta = rayleigh_coefficients(case, parts.material)
         summary["damping"] = {"alpha_per_s": alpha, "beta_s": beta,
                               "air_drag_N_s_per_m3": case.model.damping.air_drag}
+        if case.load.agitation is not None:
+            summary["agitation"] = case.load.agitation.describe()
         if case.measured is not None:
             summary["measured"] = case.measured.model_dump()
         if status in ("completed", "settled") and case.case.analysis != "none":
@@ -260,6 +262,11 @@ def main(argv: list[str] | None = None) -> int:
             alpha, beta = rayleigh_coefficients(case, parts.material)
             if alpha or beta:
                 print(f"  damping C = {alpha:.3g} 1/s M + {beta:.3g} s K0")
+            if case.load.agitation is not None:
+                shake = case.load.agitation.describe()
+                print(f"  supports shaken {shake['cycles']} cycles at {shake['frequency_Hz']:g} Hz "
+                      f"from t = {shake['start_s']:g} s to {shake['end_s']:g} s, peak "
+                      f"{shake['peak_acceleration_g']:g} g, stroke {1e3 * shake['stroke_m']:.3g} mm")
             return 0
         out = Path(args.out) if args.out else Path("out") / case.case.name
         source = f"from {args.case}" + "".join(f" --set {o}" for o in args.overrides)
