@@ -47,8 +47,11 @@ chosen from physics or the literature as stated:
     disc: 4 × the 0.5 s swing period 2π√(L/g) of the 6.35 cm overhang as a pendulum, so the
     fabric follows the load). Low 0.2 s (hardly slower than free fall over the overhang,
     √(2·0.0635 m/g) ≈ 0.11 s: a drop). High 6 s (a slower hand). The perturbation keeps its
-    2 s. A test that agitates the specimen before reading is not covered: it needs a gravity
-    ``history``, which ``--set`` cannot put beside the case's ``ramp_time``.
+    2 s.
+``agitation``  ``[load.agitation]``, default none (the drape read as it settles). Some
+    testers tap or shake the disc before reading, to free the folds that friction holds. The
+    disc is shaken vertically after the lowering, 3 cycles at 2 Hz (the skirt's swing
+    frequency): peak 0.1 g (a tap, 13 mm stroke) and 0.3 g (a firm shake, 38 mm stroke).
 ``air_drag``  ``model.damping.air_drag``, default 0.3 N·s/m³: still air's drag ½ ρ_air C_d v²
     (C_d ≈ 1.2) linearised at v ≈ 0.4 m/s, mass damping 0.3/ρ_A ≈ 1.8 1/s for this 163 g/m²
     fabric (damping ratio ≈ 0.08 of the overhang's pendulum mode ω ≈ √(g/L) ≈ 12 rad/s).
@@ -61,7 +64,7 @@ chosen from physics or the literature as stated:
 Usage::
 
     python benchmarks/bench_sensitivity.py --out out/sensitivity            (the full study:
-                                      23 runs of minutes each; --workers N, default one per core)
+                                      25 runs of minutes each; --workers N, default one per core)
     python benchmarks/bench_sensitivity.py --factors air_drag,mesh --out out/sens_dm
     python benchmarks/bench_sensitivity.py --seeds 3 --out out/sensitivity_3seeds
     python benchmarks/bench_sensitivity.py --resume --out out/sensitivity    (after a stop)
@@ -154,6 +157,9 @@ def factors(case) -> list[Factor]:
         Factor("gravity_ramp", "gravity ramp time", f"{case.load.gravity.ramp_time:g} s", (
             Level("drop", "0.2 s", {"load.gravity.ramp_time": "0.2"}, "low"),
             Level("slower", "6 s", {"load.gravity.ramp_time": "6.0"}, "high"))),
+        Factor("agitation", "disc shaken before reading (3 cycles, 2 Hz)", "not shaken", (
+            Level("gentle", "0.1 g", {"load.agitation.acceleration": "0.1"}, "low"),
+            Level("firm", "0.3 g", {"load.agitation.acceleration": "0.3"}, "high"))),
         Factor("air_drag", "air drag c", f"{case.model.damping.air_drag:g} N·s/m³", (
             Level("low", "0.1 N·s/m³", {"model.damping.air_drag": "0.1"}, "low"),
             Level("high", "3 N·s/m³", {"model.damping.air_drag": "3"}, "high"))),
