@@ -170,7 +170,8 @@ def build_model(case: Case, mesh, material):
                               membrane_strain_degree=spec.membrane_strain_degree,
                               membrane_stabilization=spec.membrane_stabilization,
                               friction_tangent=spec.friction_tangent,
-                              viscous_tangent=spec.viscous_tangent, **kwargs)
+                              viscous_tangent=spec.viscous_tangent,
+                              drag_coefficient=spec.damping.drag_coefficient, **kwargs)
 
 
 def fold_perturbation(case: Case):

@@ -170,6 +170,9 @@ class Case(_Section):
                 raise _rule("load.end_moment needs model.kinematics = 'large' (a follower moment)")
             if load.perturbation is not None:
                 raise _rule("load.perturbation needs model.kinematics = 'large'")
+            if model.damping.drag_coefficient:
+                raise _rule("model.damping.drag_coefficient needs model.kinematics = 'large' "
+                            "(the drag acts along the deformed normal)")
 
     def boundary_names(self) -> dict[str, str]:
         """Every boundary name the case refers to, keyed by the dotted key that names it."""

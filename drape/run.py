@@ -167,7 +167,8 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
             summary["material_properties"] = parts.material.describe()
         alpha, beta = rayleigh_coefficients(case, parts.material)
         summary["damping"] = {"alpha_per_s": alpha, "beta_s": beta,
-                              "air_drag_N_s_per_m3": case.model.damping.air_drag}
+                              "air_drag_N_s_per_m3": case.model.damping.air_drag,
+                              "drag_coefficient": case.model.damping.drag_coefficient}
         if case.load.agitation is not None:
             summary["agitation"] = case.load.agitation.describe()
         if case.measured is not None:
@@ -262,6 +263,9 @@ def main(argv: list[str] | None = None) -> int:
             alpha, beta = rayleigh_coefficients(case, parts.material)
             if alpha or beta:
                 print(f"  damping C = {alpha:.3g} 1/s M + {beta:.3g} s K0")
+            if case.model.damping.drag_coefficient:
+                print(f"  air drag ½ ρ_air C_d |v·n| v·n normal to the fabric, C_d = "
+                      f"{case.model.damping.drag_coefficient:g}")
             if case.load.agitation is not None:
                 shake = case.load.agitation.describe()
                 print(f"  supports shaken {shake['cycles']} cycles at {shake['frequency_Hz']:g} Hz "

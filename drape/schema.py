@@ -254,7 +254,7 @@ class CaseMaterial(LawOverride):
 # --------------------------------------------------------------------------- [model]
 class Damping(_Section):
     """[model.damping]: Rayleigh damping C = (alpha + air_drag / areal mass) M + beta K0
-    (added to the law's own d)."""
+    (added to the law's own d), or with drag_coefficient still air's quadratic drag."""
 
     alpha: Q("1/s", ge=0) = 0.0
     """Mass-proportional coefficient [1/s]."""
@@ -263,6 +263,15 @@ class Damping(_Section):
     fabric; it enters as the mass-proportional coefficient c / areal mass."""
     beta: Q("s", ge=0) = 0.0
     """Stiffness-proportional coefficient [s] (K0: tangent stiffness at rest)."""
+    drag_coefficient: float = Field(0.0, ge=0)
+    """C_d of still air's quadratic drag ½ ρ_air C_d |v·n| v·n per unit area, normal to the
+    deformed fabric (flat plate broadside: 1.2); large kinematics only. 0: none."""
+
+    @model_validator(mode="after")
+    def _one_air_drag(self):
+        if self.air_drag and self.drag_coefficient:
+            raise _rule("@: give air_drag (linear) or drag_coefficient (quadratic), not both")
+        return self
 
 
 class Membrane(_Section):

@@ -56,6 +56,7 @@ from constitutive.friction import restored_array
 from constitutive.law import BendingLaw, check_friction_tangent
 from constitutive.conventions import CURVATURE_SIGN, twisting_moment
 from constitutive.units import G0
+from drape.air import NormalDrag
 from drape.assembly import SparsityPattern
 from drape import shell_kernels as kernels
 from drape.kinematics import KLPoint, assumed_strain_operator, basis_arrays
@@ -207,6 +208,9 @@ class KirchhoffLoveShell:
         Boundary name for the edge load and the end moment.
     rayleigh : (float, float)
         ``C = α M + β K0`` with ``K0`` the tangent of the undeformed state.
+    drag_coefficient : float
+        C_d of still air's quadratic drag normal to the surface (:class:`drape.air.NormalDrag`);
+        0: none.
     intorder : int
         Degree of the quadrature rule (default 6, 12 points): the bending stiffness of the
         quintic Argyris basis on straight triangles, ``∫ ∇∇N · ∇∇N``, is a polynomial of
@@ -246,7 +250,7 @@ class KirchhoffLoveShell:
                  surface_load=None, load_boundary: str = "free", rayleigh=(0.0, 0.0), intorder: int = 6,
                  g: float = G0, membrane_strain_degree=None,
                  membrane_stabilization: float = 0.0, friction_tangent: str = "consistent",
-                 viscous_tangent: str = "symmetric"):
+                 viscous_tangent: str = "symmetric", drag_coefficient: float = 0.0):
         self.mesh = mesh
         try:
             self.friction_tangent = check_friction_tangent(friction_tangent)
@@ -293,6 +297,12 @@ class KirchhoffLoveShell:
         self.pattern = SparsityPattern(self.edofs.T, self.ndofs)
         self._csr_map = self.pattern.element_positions()
         self._colours = kernels.element_colours(sdofs)
+        self.drag = None
+        if drag_coefficient:
+            try:
+                self.drag = NormalDrag(drag_coefficient, self.dN, self.N, self.w, self.edofs)
+            except ValueError as exc:
+                raise ShellInputError(str(exc)) from None
 
         if fixed_dofs is not None:
             self.fixed_dofs = np.unique(np.asarray(fixed_dofs, dtype=np.int64))
@@ -650,6 +660,8 @@ class KirchhoffLoveShell:
         Ma, Mv = self._mass_products(a, v)
         inertia = Ma + self._law_inertia(u, a)
         force = self._damping_force(v, Mv) - f_ext
+        if self.drag is not None:
+            force = force + self.pattern.vector(self.drag.element_forces(u, v))
         if tangent is None:
             return Evaluation(inertia, force + self._internal(u, v)[0])
         if weights is not None:
@@ -671,6 +683,8 @@ class KirchhoffLoveShell:
         base = (cC * alpha + cM) * self._M.data      # a new array, which the kernel adds to
         if cC * beta != 0.0:
             base += cC * beta * self._K0.data
+        if cC != 0.0 and self.drag is not None:
+            base += cC * self.pattern.matrix(self.drag.element_tangents(u, v)).data
         visc = self._viscosity()
         if cK == 0.0 and not np.any(cC * visc[0] + cM * visc[1]):
             return None, base
@@ -721,6 +735,11 @@ class KirchhoffLoveShell:
                 du = u - self._u_committed
                 vsum = v + self._v_committed
                 self._damping_work += float(0.5 * self._damping_force(vsum, *self._mass_products(vsum)) @ du)
+                if self.drag is not None:       # ∫ ½ (f_old + f_new) · Δu, as for C v
+                    self._damping_work += float(0.5 * (
+                        self.pattern.vector(self.drag.element_forces(u, v))
+                        + self.pattern.vector(self.drag.element_forces(self._u_committed,
+                                                                       self._v_committed))) @ du)
                 # the law's own viscosity: ∫ ½ (d κ̇_old + d κ̇_new) Δκ
                 self._damping_work += float(np.einsum(
                     "eqv,eq->", 0.5 * (Md + self._Md_committed) * dk, self.w))

@@ -85,6 +85,14 @@ def test_good_case_validates_with_defaults():
         (["model.viscous_tangent='full'"],
          "model.viscous_tangent is only used with model.kinematics = 'large' (got 'small')"),
         (["model.viscous_tangent='exact'"], "model.viscous_tangent = 'exact'"),
+        (["model.damping.drag_coefficient=1.2"],
+         "model.damping.drag_coefficient needs model.kinematics = 'large' (the drag acts along "
+         "the deformed normal)"),
+        (["model.damping.drag_coefficient=1.2", "model.damping.air_drag=0.3"],
+         "model.damping: give air_drag (linear) or drag_coefficient (quadratic), not both"),
+        (["load.agitation.acceleration=0.3", "load.agitation.frequency='20 Hz'"],
+         "solver.dt = 0.01 s is too long for load.agitation.frequency = 20 Hz: at least 10 steps "
+         "a cycle need solver.dt <= 0.005 s"),
     ],
 )
 def test_each_mistake_gives_exactly_one_clear_error(overrides, expected):

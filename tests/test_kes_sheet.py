@@ -155,7 +155,8 @@ def test_summary_json_says_which_membrane_values_came_from_the_sheet(tmp_path, t
     written = on_disk["material_properties"]
     assert written == json.loads(json.dumps(summary["material_properties"]))
     assert on_disk["damping"] == {"alpha_per_s": pytest.approx(0.3 / written["areal_mass_kg_per_m2"]),
-                                  "beta_s": 0.0, "air_drag_N_s_per_m3": 0.3}
+                                  "beta_s": 0.0, "air_drag_N_s_per_m3": 0.3,
+                                  "drag_coefficient": 0.0}
     mem = written["membrane"]
     assert mem["G12"]["value"] == pytest.approx(0.6 * GF / 1e-2 * 180 / math.pi, rel=1e-12)
     tension = skirt_tension(written["areal_mass_kg_per_m2"] * 9.80665, 0.15, 0.09)
