@@ -75,8 +75,3 @@ class NormalDrag:
         e, q, nb = self.N.shape
         Nn = (self.N[..., :, None] * n[..., None, :]).reshape(e, q, 3 * nb)    # N_a n_c
         return np.matmul(Nn.transpose(0, 2, 1), Nn * weight[..., None])
-
-    def power(self, u, v) -> float:
-        """Rate of work the air takes from the fabric, ``∫ k |v·n|³ dA ≥ 0`` [W]."""
-        _, vn = self.normal_velocity(u, v)
-        return float(np.sum(self.k * np.abs(vn) ** 3 * self.w))

@@ -659,9 +659,7 @@ class KirchhoffLoveShell:
         f_ext = lam * (self._dead_surface_force(t) + fe)
         Ma, Mv = self._mass_products(a, v)
         inertia = Ma + self._law_inertia(u, a)
-        force = self._damping_force(v, Mv) - f_ext
-        if self.drag is not None:
-            force = force + self.pattern.vector(self.drag.element_forces(u, v))
+        force = self._damping_force(v, Mv) + self._drag_force(u, v) - f_ext
         if tangent is None:
             return Evaluation(inertia, force + self._internal(u, v)[0])
         if weights is not None:
@@ -701,6 +699,12 @@ class KirchhoffLoveShell:
             f += beta * (self._K0 @ v)
         return f
 
+    def _drag_force(self, u, v):
+        """Still air's quadratic drag as it enters the residual, like ``C v`` (0 without it)."""
+        if self.drag is None:
+            return 0.0
+        return self.pattern.vector(self.drag.element_forces(u, v))
+
     def residual(self, u, v, a, t):
         """``R = M a + C v + f_int(u) − f_ext(u, t)`` and ``(K, C, M)`` (:meth:`evaluate` with
         the shell's friction tangent)."""
@@ -737,9 +741,8 @@ class KirchhoffLoveShell:
                 self._damping_work += float(0.5 * self._damping_force(vsum, *self._mass_products(vsum)) @ du)
                 if self.drag is not None:       # ∫ ½ (f_old + f_new) · Δu, as for C v
                     self._damping_work += float(0.5 * (
-                        self.pattern.vector(self.drag.element_forces(u, v))
-                        + self.pattern.vector(self.drag.element_forces(self._u_committed,
-                                                                       self._v_committed))) @ du)
+                        self._drag_force(u, v)
+                        + self._drag_force(self._u_committed, self._v_committed)) @ du)
                 # the law's own viscosity: ∫ ½ (d κ̇_old + d κ̇_new) Δκ
                 self._damping_work += float(np.einsum(
                     "eqv,eq->", 0.5 * (Md + self._Md_committed) * dk, self.w))
