@@ -57,6 +57,9 @@ chosen from physics or the literature as stated:
     fabric (damping ratio ≈ 0.08 of the overhang's pendulum mode ω ≈ √(g/L) ≈ 12 rad/s).
     Low 0.1 (v ≈ 0.13 m/s), high 3 N·s/m³ (18 1/s, ratio ≈ 0.8: the heavy numerical damping
     the Cusick cases used before they were let down in air).
+``air_drag_form``  ``model.damping.drag_coefficient``: still air's quadratic drag
+    ½ ρ_air C_d |v·n| v·n normal to the fabric (C_d = 1.2, a plate broadside) in place of the
+    linear drag: no reference speed, much drag for a falling fold and almost none in the creep.
 ``mesh``  Low: 2/3 of the base's radial and circumferential divisions (4 × 48 for 6 × 72),
     same grading. High: ``mesh.refine = 1`` (12 × 144, every triangle in four; the
     convergence level, about 4 × the cost).
@@ -64,7 +67,7 @@ chosen from physics or the literature as stated:
 Usage::
 
     python benchmarks/bench_sensitivity.py --out out/sensitivity            (the full study:
-                                      25 runs of minutes each; --workers N, default one per core)
+                                      26 runs of minutes each; --workers N, default one per core)
     python benchmarks/bench_sensitivity.py --factors air_drag,mesh --out out/sens_dm
     python benchmarks/bench_sensitivity.py --seeds 3 --out out/sensitivity_3seeds
     python benchmarks/bench_sensitivity.py --resume --out out/sensitivity    (after a stop)
@@ -163,6 +166,10 @@ def factors(case) -> list[Factor]:
         Factor("air_drag", "air drag c", f"{case.model.damping.air_drag:g} N·s/m³", (
             Level("low", "0.1 N·s/m³", {"model.damping.air_drag": "0.1"}, "low"),
             Level("high", "3 N·s/m³", {"model.damping.air_drag": "3"}, "high"))),
+        Factor("air_drag_form", "air drag form", "linear", (
+            Level("quadratic", "quadratic, C_d 1.2", {"model.damping.air_drag": "0",
+                                                     "model.damping.drag_coefficient": "1.2"},
+                  "high"),)),
         Factor("mesh", "mesh", base_mesh, (
             Level("coarse", low_label, low_mesh, "low"),
             Level("refine1", f"refine {mesh.refine + 1}",

@@ -69,7 +69,9 @@ class NormalDrag:
         """``∂(−∫ N f)/∂v`` per element, (e, 3 nb, 3 nb): ``∫ N_a N_b 2 k |v·n| n ⊗ n``.
 
         The turning of n with the configuration is left out of Newton's tangent (the
-        residual keeps it): the drag is a small force whose direction changes slowly."""
+        residual keeps it): the drag is a small force whose direction changes slowly, and
+        that part, ``N_a ∂n/∂u_b``, is unsymmetric, where this one keeps the shell's
+        symmetric factorisation."""
         n, vn = self.normal_velocity(u, v)
         weight = 2.0 * self.k * np.abs(vn) * self.w
         e, q, nb = self.N.shape

@@ -136,7 +136,8 @@ def test_bench_levels_are_valid_cases_of_the_wool(benchmark_script):
     names = [f.name for f in factors]
     for expected in ("friction_length", "friction_order", "friction_off", "membrane_tension",
                      "shear_G12", "perturbation_amplitude", "perturbation_spectrum",
-                     "perturbation_duration", "perturbation_seed", "gravity_ramp", "agitation", "air_drag",
+                     "perturbation_duration", "perturbation_seed", "gravity_ramp", "agitation",
+                     "air_drag", "air_drag_form",
                      "mesh"):
         assert expected in names
     mesh = {f.name: f for f in factors}["mesh"].levels[0].keys
