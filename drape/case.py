@@ -146,6 +146,10 @@ class Case(_Section):
             return
         if self.solver.quasi_static:
             raise _rule("load.agitation needs a dynamic run (solver.quasi_static = false)")
+        if self.model.damping.drag_coefficient:
+            raise _rule("load.agitation cannot be combined with model.damping.drag_coefficient: "
+                        "the quadratic drag of the shaken frame's velocity is not modelled "
+                        "(use the linear model.damping.air_drag)")
         longest = 1.0 / (STEPS_PER_SHAKE * shake.frequency)
         if self.solver.dt > longest * (1 + 1e-9):
             raise _rule(f"solver.dt = {self.solver.dt:g} s is too long for load.agitation.frequency"

@@ -90,6 +90,9 @@ def test_good_case_validates_with_defaults():
          "the deformed normal)"),
         (["model.damping.drag_coefficient=1.2", "model.damping.air_drag=0.3"],
          "model.damping: give air_drag (linear) or drag_coefficient (quadratic), not both"),
+        (["model.kinematics='large'", "mesh.element='argyris'", "load.agitation.acceleration=0.3",
+          "model.damping.drag_coefficient=1.2"],
+         "load.agitation cannot be combined with model.damping.drag_coefficient"),
         (["load.agitation.acceleration=0.3", "load.agitation.frequency='20 Hz'"],
          "solver.dt = 0.01 s is too long for load.agitation.frequency = 20 Hz: at least 10 steps "
          "a cycle need solver.dt <= 0.005 s"),
