@@ -71,10 +71,14 @@ class SparsityPattern:
         # vectors: element-local rows in (element, basis) order
         self._vec_dofs = element_dofs.T.ravel()
 
+    def data(self, element_matrices) -> np.ndarray:
+        """CSR ``data`` (length ``nnz``) of the sum of element matrices (n_elements, n_basis,
+        n_basis), for adding to another matrix's data on this pattern."""
+        return np.bincount(self._scatter, weights=np.ravel(element_matrices), minlength=self.nnz)
+
     def matrix(self, element_matrices) -> sp.csr_matrix:
         """Sum element matrices of shape (n_elements, n_basis, n_basis) into CSR."""
-        data = np.bincount(self._scatter, weights=np.ravel(element_matrices), minlength=self.nnz)
-        return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.ndofs, self.ndofs))
+        return self.from_data(self.data(element_matrices))
 
     def element_positions(self) -> np.ndarray:
         """Position in the CSR ``data`` of every element-matrix entry, shape

@@ -205,9 +205,9 @@ class KirchhoffPlate:
 
         # linear matrices, once, all on the one sparsity pattern (the integrator adds their data arrays)
         pat = self.pattern
-        unit = {d: pat.matrix(element_matrix(self._B[d], self._B[d], self._dx)).data for d in ("xx", "yy")}
-        twist = pat.matrix(element_matrix(self._B["xy"], self._B["xy"], self._dx)).data * 2.0 * self.twist_rigidity
-        mass = pat.matrix(element_matrix(self._N, self._N, self._dx)).data * rho
+        unit = {d: pat.data(element_matrix(self._B[d], self._B[d], self._dx)) for d in ("xx", "yy")}
+        twist = pat.data(element_matrix(self._B["xy"], self._B["xy"], self._dx)) * 2.0 * self.twist_rigidity
+        mass = pat.data(element_matrix(self._N, self._N, self._dx)) * rho
         self._twist_data = twist
         self.K_twist = pat.from_data(twist)
         k0 = _coef(self.warp, "k1") * unit["xx"] + _coef(self.weft, "k1") * unit["yy"] + twist

@@ -682,7 +682,7 @@ class KirchhoffLoveShell:
         if cC * beta != 0.0:
             base += cC * beta * self._K0.data
         if cC != 0.0 and self.drag is not None:
-            base += cC * self.pattern.matrix(self.drag.element_tangents(u, v)).data
+            base += cC * self.pattern.data(self.drag.element_tangents(u, v))
         visc = self._viscosity()
         if cK == 0.0 and not np.any(cC * visc[0] + cM * visc[1]):
             return None, base
