@@ -225,12 +225,12 @@ def _checks(records):
             out.append(f"convergence ({fine}): DC {a['dc_percent']:.2f} -> {b['dc_percent']:.2f} % "
                        f"(|change| {abs(a['dc_percent'] - b['dc_percent']):.2f} points, rule < 2); "
                        f"nodes {a['n_nodes']} -> {b['n_nodes']}")
+    from drape.case import load_case
+
     for name in TIMESTEP_CASES:
         finest = by.get(f"{name}_dt{min(TIMESTEP_DTS):g}")
         if finest is None or name not in by:
             continue
-        from drape.case import load_case
-
         case_dt = load_case(ROOT / "cases" / "validation" / f"{name}.toml").solver.dt
         steps = [(case_dt, by[name])] + [(dt, by[f"{name}_dt{dt:g}"]) for dt in TIMESTEP_DTS
                                       if f"{name}_dt{dt:g}" in by]
