@@ -102,6 +102,7 @@ class StructuralModel(Protocol):
     ndofs: int
     fixed_dofs: np.ndarray
     load_scale: float
+    rayleigh: tuple   # (alpha, beta) of the damping C = alpha M + beta K0
     seconds: dict   # wall time of "law" (the laws' trial moments) and "assembly" (the rest of evaluate)
 
     # ------------------------------------------------------------------ loads and time

@@ -148,6 +148,8 @@ class KirchhoffPlate:
     ----------
     load_scale : float
         Multiplies all external loads (set by :func:`drape.newmark.quasi_static`).
+    rayleigh : (float, float)
+        The damping ``(alpha, beta)`` as given.
     """
 
     def __init__(
@@ -186,6 +188,7 @@ class KirchhoffPlate:
             raise PlateInputError(f"rayleigh must be a pair (alpha, beta), got {rayleigh!r}") from None
         if alpha < 0 or beta < 0:
             raise PlateInputError(f"rayleigh coefficients must be >= 0, got {(alpha, beta)}")
+        self.rayleigh = (alpha, beta)
         self.load_scale = 1.0
 
         order = _DEFAULT_INTORDER[self.kind] if intorder is None else int(intorder)

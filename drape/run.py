@@ -28,7 +28,7 @@ import numpy as np
 
 from drape.analyses import ANALYSES, RunContext
 from drape.build import (Parts, RunInputError, build, build_material, build_mesh, initial_fields,
-                         rayleigh_coefficients, solver_options)
+                         solver_options)
 from drape.case import Case, CaseError, describe_schema, dump_case, load_case
 from drape.checkpoint import Checkpoint, read_checkpoint
 from drape.output import OutputWriter, read_history
@@ -165,7 +165,7 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
         }
         if hasattr(parts.material, "describe"):   # SI values, membrane sources, KES sheet given
             summary["material_properties"] = parts.material.describe()
-        alpha, beta = rayleigh_coefficients(case, parts.material)
+        alpha, beta = parts.model.rayleigh
         summary["damping"] = {"alpha_per_s": alpha, "beta_s": beta,
                               "air_drag_N_s_per_m3": case.model.damping.air_drag,
                               "drag_coefficient": case.model.damping.drag_coefficient}
@@ -260,7 +260,7 @@ def main(argv: list[str] | None = None) -> int:
                 m = parts.material
                 print(f"  membrane taken at T = {tension:.3g} N/m: E11 = {m.E11:.4g} N/m, "
                       f"E22 = {m.E22:.4g} N/m, G12 = {m.G12:.4g} N/m")
-            alpha, beta = rayleigh_coefficients(case, parts.material)
+            alpha, beta = parts.model.rayleigh
             if alpha or beta:
                 print(f"  damping C = {alpha:.3g} 1/s M + {beta:.3g} s K0")
             if case.model.damping.drag_coefficient:

@@ -41,6 +41,7 @@ class VertexOscillators:
         self.gravity, self.fail_after = gravity, fail_after
         eye = sp.identity(self.ndofs, format="csr")
         self.M, self.K, self.C = m * eye, k * eye, c * eye
+        self.rayleigh = (c / m, 0.0)
         self.commits = 0
         self.seconds = {"law": 0.0, "assembly": 0.0}
 
