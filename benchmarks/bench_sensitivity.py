@@ -1,6 +1,8 @@
-"""Sensitivity of the wool's Cusick drape: DC and node count, one factor at a time.
+"""Sensitivity of a Cusick drape: DC and node count, one factor at a time.
 
-The base is ``cases/validation/wool_tropical.toml`` (Matsudaira et al. 2015: B = 0.067
+The levels are taken around the base case (``--case``; any Cusick case with
+``[material.kes]``). The default base, and the case the notes below speak of, is
+``cases/validation/wool_tropical.toml`` (Matsudaira et al. 2015: B = 0.067
 gf·cm²/cm, 2HB = 0.033 gf·cm/cm, W = 16.29 mg/cm², 25.4 cm specimen on a 12.7 cm disc;
 measured DC 49.8 %, 5 nodes). Its bending length is c = (B/W)^(1/3) = 1.6 cm against a
 6.35 cm overhang, so the drape's curvatures are of order 1/c ≈ 0.6 cm⁻¹. Every factor below
@@ -70,6 +72,8 @@ Usage::
                                       26 runs of minutes each; --workers N, default one per core)
     python benchmarks/bench_sensitivity.py --factors air_drag,mesh --out out/sens_dm
     python benchmarks/bench_sensitivity.py --seeds 3 --out out/sensitivity_3seeds
+    python benchmarks/bench_sensitivity.py --case cases/validation/cotton_broadcloth.toml \
+        --out out/sensitivity_cotton                              (the same around the cotton)
     python benchmarks/bench_sensitivity.py --resume --out out/sensitivity    (after a stop)
     python benchmarks/bench_sensitivity.py --tiny                (the plumbing, in seconds)
     python benchmarks/bench_sensitivity.py --list                (factors and levels)
@@ -187,7 +191,8 @@ def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(
         prog="python benchmarks/bench_sensitivity.py",
         description="One-factor-at-a-time sensitivity of a Cusick drape (DC and nodes) around "
-                    "the wool of the validation set; table, JSON and tornado chart in OUT.")
+                    "a Cusick case (default: the wool of the validation set); table, JSON and "
+                    "tornado chart in OUT.")
     p.add_argument("--case", default=str(BASE_CASE), help="base case (default: the wool)")
     p.add_argument("--out", metavar="OUT", help="study folder (default out/sensitivity, "
                    "out/sensitivity_tiny with --tiny)")
