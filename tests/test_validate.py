@@ -11,7 +11,7 @@ import pytest
 
 from drape import validate
 from drape.case import load_case
-from drape.sweep import read_results
+from drape.sweep import read_results, read_table
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases" / "validation"
@@ -31,6 +31,23 @@ def test_the_validation_cases_are_the_published_fabrics():
         assert (measured.DC_percent, measured.nodes) == (DC, nodes)
         assert "Matsudaira" in measured.source
         assert (cases[name].mesh.specimen_diameter, cases[name].mesh.disc_diameter) == (0.254, 0.127)
+
+
+def test_the_cotton_anisotropy_table_splits_the_sheet_about_the_mean_each_row_names():
+    """benchmarks/cotton_anisotropy.csv: each row a valid case, its B and 2HB split warp : weft
+    as its name says, about the geometric or the arithmetic mean of the printed 0.118 and 0.124."""
+    rows = read_table(ROOT / "benchmarks" / "cotton_anisotropy.csv")
+    assert len(rows) == 10
+    for row in rows:
+        kes = load_case(CASES / "cotton_broadcloth.toml", row.overrides()).material.kes
+        for warp, weft, printed in ((kes.B_warp, kes.B_weft, 0.118), (kes.HB2_warp, kes.HB2_weft, 0.124)):
+            if row.name == "isotropic" or (row.name.endswith("_B_only") and printed == 0.124):
+                assert warp == weft == printed
+                continue
+            ratio = float(row.name.split("_")[1].split("to")[0])
+            assert warp / weft == pytest.approx(ratio, rel=1e-4), row.name
+            mean = (warp * weft) ** 0.5 if row.name.startswith("geometric") else (warp + weft) / 2
+            assert mean == pytest.approx(printed, rel=1e-4), row.name
 
 
 def test_validate_runs_every_case_as_an_ensemble_and_compares(tmp_path, capsys, tiny_cusick):
