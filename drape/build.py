@@ -171,6 +171,7 @@ def build_model(case: Case, mesh, material):
                               membrane_stabilization=spec.membrane_stabilization,
                               friction_tangent=spec.friction_tangent,
                               viscous_tangent=spec.viscous_tangent,
+                              bending_friction=spec.bending_friction,
                               drag_coefficient=spec.damping.drag_coefficient, **kwargs)
 
 

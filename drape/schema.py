@@ -339,6 +339,13 @@ class ModelSpec(_Section):
     (0: pure assumed strain; 0.01–0.1 suppresses the spurious in-plane modes of degrees 0–2;
     1: the consistent strain)."""
 
+    bending_friction: Literal["tensor", "per_direction"] = "tensor"
+    """Large kinematics: how the bending law's dry friction sees the curvature. ``tensor``:
+    one frame-invariant law on the curvature tensor, which is each direction's law where the
+    fabric bends along a yarn (KES-FB, Peirce), so B and 2HB calibrate it as before;
+    ``per_direction``: each direction's law on its own curvature, twist frictionless (a sheet
+    with equal warp and weft is then square-symmetric; docs/theory.md §2)."""
+
     friction_tangent: Literal["consistent", "nonnegative", "stick"] = "consistent"
     """Newton's tangent of the friction moment: ``nonnegative`` floors it at zero where the
     law softens (the moment falls with curvature after a reversal, e.g. Fabric 2's weft as
@@ -356,7 +363,8 @@ class ModelSpec(_Section):
             raise _rule("@.membrane_stabilization needs @.membrane_strain_degree")
         # options of the large-rotation shell, against their defaults
         for key, default in (("membrane", None), ("membrane_strain_degree", None),
-                             ("viscous_tangent", "symmetric"), ("membrane_tension", "auto")):
+                             ("viscous_tangent", "symmetric"), ("membrane_tension", "auto"),
+                             ("bending_friction", "tensor")):
             if getattr(self, key) != default and self.kinematics != "large":
                 raise _rule(
                     f"@.{key} is only used with @.kinematics = 'large' (got '{self.kinematics}')"

@@ -9,9 +9,10 @@ reference area is
 
 with ``ε`` the Green–Lagrange membrane strain and ``κ_αβ = s u_,αβ · n`` the
 curvature (:mod:`drape.kinematics`; ``s`` = :data:`CURVATURE_SIGN`, the same
-convention as the small-deflection plate).  The warp and weft bending moments come
-from the hysteretic law through ``BendingState.trial/commit`` at every
-quadrature point; twist is linear.  External loads: gravity ``−λ(t) ρ_A g e_z``,
+convention as the small-deflection plate), plus the dry friction of the bending law.
+The moments come from the sheet's hysteretic law through ``SheetState.trial/commit``
+at every quadrature point (:mod:`constitutive.sheet`): elastic per direction, linear
+twist, and the friction on the curvature tensor (default) or per direction.  External loads: gravity ``−λ(t) ρ_A g e_z``,
 a force per unit length on an edge and a follower end moment per unit width.
 
 Force and tangent come from compiled per-element kernels (:mod:`drape.shell_kernels`)
@@ -54,7 +55,8 @@ from skfem import CellBasis, FacetBasis, MeshTri
 
 from constitutive.friction import restored_array
 from constitutive.law import BendingLaw, check_friction_tangent
-from constitutive.conventions import CURVATURE_SIGN, twisting_moment
+from constitutive.conventions import CURVATURE_SIGN
+from constitutive.sheet import FRICTION_FRAMES, SheetLaw
 from constitutive.units import G0
 from drape.air import NormalDrag
 from drape.assembly import SparsityPattern
@@ -228,6 +230,10 @@ class KirchhoffLoveShell:
         With ``membrane_strain_degree``: the weight γ ∈ [0, 1] kept on the part of the
         strain the projection removes (:func:`drape.kinematics.assumed_strain_operator`);
         0.01–0.1 suppresses the spurious in-plane modes of degrees 0–2.
+    bending_friction : {"tensor", "per_direction"}
+        How the bending law's dry friction sees the curvature (:mod:`constitutive.sheet`):
+        one frame-invariant law on the curvature tensor, or each direction's law on its own
+        curvature with frictionless twist (square-symmetric; docs/theory.md §2).
     friction_tangent : {"consistent", "nonnegative"}
         Newton's tangent of the friction moment (:meth:`constitutive.law.BendingState.trial`):
         ``"nonnegative"`` floors it at zero where a law softens (Fabric 2's weft); the
@@ -250,8 +256,12 @@ class KirchhoffLoveShell:
                  surface_load=None, load_boundary: str = "free", rayleigh=(0.0, 0.0), intorder: int = 6,
                  g: float = G0, membrane_strain_degree=None,
                  membrane_stabilization: float = 0.0, friction_tangent: str = "consistent",
-                 viscous_tangent: str = "symmetric", drag_coefficient: float = 0.0):
+                 viscous_tangent: str = "symmetric", drag_coefficient: float = 0.0,
+                 bending_friction: str = "tensor"):
         self.mesh = mesh
+        if bending_friction not in FRICTION_FRAMES:
+            raise ShellInputError(f"bending_friction must be one of {FRICTION_FRAMES}, "
+                                  f"got {bending_friction!r}")
         try:
             self.friction_tangent = check_friction_tangent(friction_tangent)
         except ValueError as exc:
@@ -272,6 +282,7 @@ class KirchhoffLoveShell:
         self.rho_A = parts["areal_mass"]
         self.warp_law, self.weft_law = parts["warp"], parts["weft"]
         self.twist = parts["twist"]
+        self.sheet_law = SheetLaw(self.warp_law, self.weft_law, self.twist, bending_friction)
         self.C_m = parts["membrane"]
         self.g = float(g)
         self.gravity = as_function(gravity, "gravity", ShellInputError)
@@ -310,8 +321,7 @@ class KirchhoffLoveShell:
             self.fixed_dofs = self._clamped_dofs(names)
 
         self._state_shape = self.w.shape
-        self.warp_state = self.warp_law.new_state(self._state_shape)
-        self.weft_state = self.weft_law.new_state(self._state_shape)
+        self.bending = self.sheet_law.new_state(self._state_shape)
 
         self._setup_edges(load_boundary)
         self._M, self._M_scalar = self._mass()
@@ -412,23 +422,22 @@ class KirchhoffLoveShell:
         return np.ascontiguousarray(np.asarray(x, dtype=float)[self.edofs].reshape(-1, self.nb, 3))
 
     def _moments(self, kappa, elastic=False, friction_tangent=None):
-        """Voigt moments and their tangents from the laws at Voigt curvature."""
+        """Voigt moments (…, 3) and their tangents (…, 3, 3) from the law at Voigt curvature
+        (``elastic``: the linear elastic law alone). The tangent is symmetrised where the
+        solver factorises symmetrically: the residual, hence the solution, is unchanged."""
         if elastic:
-            k1w, k1f = self.warp_law.k1, self.weft_law.k1
-            M1, D1 = k1w * kappa[..., 0], np.full(kappa.shape[:-1], k1w)
-            M2, D2 = k1f * kappa[..., 1], np.full(kappa.shape[:-1], k1f)
+            M, D = SheetLaw(BendingLaw(self.warp_law.k1), BendingLaw(self.weft_law.k1),
+                            self.twist).elastic(kappa)
         else:
             mode = self.friction_tangent if friction_tangent is None else friction_tangent
-            M1, D1 = self.warp_state.trial(kappa[..., 0], mode)
-            M2, D2 = self.weft_state.trial(kappa[..., 1], mode)
-        M = np.stack([M1, M2, 0.5 * self.twist * kappa[..., 2]], axis=-1)
-        D = np.stack([D1, D2, np.full_like(D1, 0.5 * self.twist)], axis=-1)
+            M, D = self.bending.trial(kappa, mode)
+            if self.symmetric_tangent:
+                D = 0.5 * (D + np.swapaxes(D, -1, -2))
         return M, D
 
     def _viscosity(self):
         """``[[d_warp, d_weft], [m_warp, m_weft]]``: the laws' viscosity and curvature inertia."""
-        return np.array([[self.warp_law.d, self.weft_law.d],
-                         [self.warp_law.m, self.weft_law.m]], dtype=float)
+        return self.sheet_law.viscosity
 
     def _internal(self, u, v=None, a=None, weights=None, elastic_tangent=False, *,
                   friction_tangent=None, base=None):
@@ -489,8 +498,8 @@ class KirchhoffLoveShell:
         """
         mode = (elastic, self.friction_tangent if friction_tangent is None else friction_tangent,
                 float(self.twist))
-        inputs = (self.warp_law, self.weft_law, self.warp_state, self.weft_state,
-                  self.warp_state.kappa, self.weft_state.kappa, self.C_m, self.strain_projection)
+        inputs = (self.sheet_law, self.bending, self.bending.kappa, self.C_m,
+                  self.strain_projection)
         kept = self._kept_point
         if (kept is not None and kept[0] == mode and all(x is y for x, y in zip(kept[1], inputs))
                 and np.array_equal(kept[2], u)):
@@ -554,8 +563,7 @@ class KirchhoffLoveShell:
         """
         ue = np.zeros((len(self.edofs), self.nb, 3))
         zero = np.zeros(self.w.shape + (3,))
-        D = np.empty_like(zero)
-        D[...] = [self.warp_law.k1, self.weft_law.k1, 0.5 * self.twist]
+        D = np.ascontiguousarray(self._moments(zero, elastic=True)[1])
         fe = np.empty((len(ue), 3 * self.nb))
         Kd = self._tangent(ue, ue, ue, zero, zero, D, np.zeros((2, 2)), (1.0, 0.0, 0.0), fe)
         return self.pattern.from_data(Kd)
@@ -729,9 +737,7 @@ class KirchhoffLoveShell:
         u = np.asarray(u, dtype=float)
         _, kappa = self.qp_state(u)
         dk = kappa[..., :2] - self._kappa_committed[..., :2]
-        self._friction_work += float(np.sum(
-            (self.warp_state.friction_work(kappa[..., 0])
-             + self.weft_state.friction_work(kappa[..., 1])) * self.w))
+        self._friction_work += float(np.sum(self.bending.friction_work(kappa) * self.w))
         if v is not None:
             v = np.asarray(v, dtype=float)
             Md = self._viscous_moments(u, v)
@@ -748,26 +754,23 @@ class KirchhoffLoveShell:
                     "eqv,eq->", 0.5 * (Md + self._Md_committed) * dk, self.w))
             self._v_committed = v.copy()
             self._Md_committed = Md
-        self.warp_state.commit(kappa[..., 0])
-        self.weft_state.commit(kappa[..., 1])
+        self.bending.commit(kappa)
         self._u_committed = u.copy()
         self._kappa_committed = kappa
 
     def state_dict(self) -> dict:
-        """What :meth:`commit` keeps, as named arrays: the laws' states at every quadrature
-        point (``warp.*``, ``weft.*``), the committed kinematics and moments the work booking
+        """What :meth:`commit` keeps, as named arrays: the law's state at every quadrature
+        point (``bending.*``), the committed kinematics and moments the work booking
         starts from, the booked works, the load scale and the load time."""
-        out = {f"{name}.{k}": v for name, st in (("warp", self.warp_state), ("weft", self.weft_state))
-               for k, v in st.state_dict().items()}
+        out = {f"bending.{k}": v for k, v in self.bending.state_dict().items()}
         out.update({k: np.array(getattr(self, f"_{k}"), dtype=float) for k in _SHELL_STATE})
         out.update(load_scale=np.array(self.load_scale, dtype=float))
         return out
 
     def load_state_dict(self, state: dict) -> None:
         """Restore a :meth:`state_dict` of a shell built from the same case."""
-        for name, st in (("warp", self.warp_state), ("weft", self.weft_state)):
-            st.load_state_dict({k[len(name) + 1:]: v for k, v in state.items()
-                                if k.startswith(f"{name}.")})
+        self.bending.load_state_dict({k[len("bending."):]: v for k, v in state.items()
+                                      if k.startswith("bending.")})
         for key in _SHELL_STATE:
             shape = np.shape(getattr(self, f"_{key}"))
             value = restored_array(f"shell state {key}", state, key, shape)
@@ -804,13 +807,11 @@ class KirchhoffLoveShell:
         eps, kap = self.qp_state(u)
         eps = self._membrane_strain(eps)        # the strain whose forces are C_m eps
         out = {}
-        for name, i in (("xx", 0), ("yy", 1)):
-            state = self.warp_state if i == 0 else self.weft_state
-            out[f"curvature_{name}"] = kap[..., i]
-            out[f"moment_{name}"] = state.trial(kap[..., i])[0]
-            out[f"friction_moment_{name}"] = state.friction_moment(kap[..., i])
-        out["curvature_xy"] = 0.5 * kap[..., 2]
-        out["moment_xy"] = twisting_moment(self.twist, out["curvature_xy"])
+        M, Mf = self.bending.trial(kap)[0], self.bending.friction_moment(kap)
+        for name, i in (("xx", 0), ("yy", 1), ("xy", 2)):
+            out[f"curvature_{name}"] = kap[..., i] * (0.5 if i == 2 else 1.0)
+            out[f"moment_{name}"] = M[..., i]
+            out[f"friction_moment_{name}"] = Mf[..., i]
         out["membrane_strain_xx"] = eps[..., 0]
         out["membrane_strain_yy"] = eps[..., 1]
         out["membrane_strain_xy"] = 0.5 * eps[..., 2]
@@ -829,9 +830,7 @@ class KirchhoffLoveShell:
         ``t`` evaluates the dead loads' potential (default: :attr:`load_time`)."""
         eps, kap = self.qp_state(u)
         membrane = 0.5 * np.einsum("eqv,vw,eqw,eq->", eps, self.C_m, self._membrane_strain(eps), self.w)
-        bend = sum(float(np.sum(law.elastic_energy(kap[..., i]) * self.w))
-                   for i, law in enumerate((self.warp_law, self.weft_law)))
-        bend += float(np.sum(0.25 * self.twist * kap[..., 2] ** 2 * self.w))
+        bend = float(np.sum(self.sheet_law.elastic_energy(kap) * self.w))
         kinetic = 0.5 * float(v @ self._mass_products(v)[0])
         # potential of the dead loads (gravity, surface and edge force)
         t = self._t_last if t is None else t

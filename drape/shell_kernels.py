@@ -344,8 +344,10 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, weights, order, start
     Q : (q, q)
         Assumed-strain operator (identity for the consistent strain).
     C_m : (3, 3) membrane stiffness.
-    Nm, M, D : (E, q, 3)
-        Membrane forces ``C_m Q ε``, the laws' moments and their tangents ``dM_v/dκ_v``.
+    Nm, M : (E, q, 3)
+        Membrane forces ``C_m Q ε`` and the law's Voigt moments.
+    D : (E, q, 3, 3)
+        The law's tangent ``dM_v/dκ_x`` (Voigt).
     visc : (2, 2)
         ``[[d_warp, d_weft], [m_warp, m_weft]]``: the laws' viscosity and curvature inertia.
     weights : (3,)
@@ -502,14 +504,17 @@ def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, weights, order, start
                             Z[0, l, 2 + v, k] += x0
                             Z[1, l, 2 + v, k] += x1
                 # ---- weighted: c_K K, where the bending material part c_K D joins the laws'
-                # c_C d + c_M m on the warp and weft curvatures (one rank-one update each)
+                # c_C d + c_M m on the warp and weft curvatures (one rank-one update per
+                # non-zero entry of D: three where the law is diagonal)
                 if cK != 1.0:
                     Z *= cK
                 for v in range(3):
-                    law = cK * D[e, q, v]
-                    if v < 2:
-                        law += cC * visc[0, v] + cM * visc[1, v]
-                    _outer_add(wq * law, cdk[v], cdk[v], Z)
+                    for x in range(3):
+                        law = cK * D[e, q, v, x]
+                        if v == x and v < 2:
+                            law += cC * visc[0, v] + cM * visc[1, v]
+                        if law != 0.0:
+                            _outer_add(wq * law, cdk[v], cdk[x], Z)
                 _half(Z, phi, Wrow)
                 # ---- membrane material part: w_p ∂ε_pᵀ C_m Σ_q Q_pq ∂ε_q, as rows s = α
                 CQde[:] = 0.0

@@ -85,6 +85,9 @@ def test_good_case_validates_with_defaults():
         (["model.viscous_tangent='full'"],
          "model.viscous_tangent is only used with model.kinematics = 'large' (got 'small')"),
         (["model.viscous_tangent='exact'"], "model.viscous_tangent = 'exact'"),
+        (["model.bending_friction='per_direction'"],
+         "model.bending_friction is only used with model.kinematics = 'large' (got 'small')"),
+        (["model.bending_friction='isotropic'"], "model.bending_friction = 'isotropic'"),
         (["model.damping.drag_coefficient=1.2"],
          "model.damping.drag_coefficient needs model.kinematics = 'large' (the drag acts along "
          "the deformed normal)"),
@@ -211,3 +214,13 @@ def test_friction_tangent_choices_are_the_laws():
     from drape.case import ModelSpec
 
     assert typing.get_args(ModelSpec.model_fields["friction_tangent"].annotation) == FRICTION_TANGENTS
+
+
+def test_bending_friction_choices_are_the_sheet_laws():
+    """The case schema lists the sheet law's friction frames (kept in constitutive.sheet)."""
+    import typing
+
+    from constitutive.sheet import FRICTION_FRAMES
+    from drape.case import ModelSpec
+
+    assert typing.get_args(ModelSpec.model_fields["bending_friction"].annotation) == FRICTION_FRAMES
