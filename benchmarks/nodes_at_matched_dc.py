@@ -1,0 +1,210 @@
+"""Node count at matched drape coefficient: simulated against measured, fabric by fabric.
+
+A drape at rest depends on the fabric's weight only through B/W and 2HB/W, so a scanned
+fabric of unknown KES values can be matched by its bending length alone. For each
+fabric of a scan set, this script
+
+1. reads every scan through ``drape.measure`` (the Cusick analysis of a simulated drape)
+   and takes the fabric's mean DC and the range of node counts over its specimens and
+   captures (``benchmarks/scan_descriptors.py``);
+2. runs the KES-only Cusick case (``cases/cusick_kes.toml`` at the scans' 30 cm on 18 cm,
+   warp = weft, 2HB/B = 0.5 cm⁻¹, W = 15 mg/cm²) over a grid of B for each friction law,
+   and interpolates log B against DC to the B at which the model's DC is the fabric's;
+3. runs the model at that B under several perturbation seeds and compares its node count
+   with the fabric's measured range.
+
+Usage::
+
+    python benchmarks/nodes_at_matched_dc.py SCANS.npz --out out/matched
+    python benchmarks/nodes_at_matched_dc.py SCANS.npz --out out/matched --laws tensor --seeds 3
+
+``SCANS.npz``: registered scans of real Cusick drapes (the format ``scan_descriptors.py``
+reads). Writes ``matched.csv`` and ``matched.md`` (one row per fabric and law),
+``nodes_at_matched_dc.png`` and the sweeps it ran (``grid_<law>/``, ``matched_<law>/``).
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from drape.sweep import SweepRow, read_results, run_sweep  # noqa: E402
+from fold_causes import fabric_keys  # noqa: E402
+
+LAWS = {"tensor": [], "per_direction": ["model.bending_friction=per_direction"]}
+GRIDS = {"tensor": [0.005 * 2 ** (k / 2) for k in range(13)],            # 0.005 … 0.32
+         "per_direction": [0.005 * 2 ** k for k in range(8)]}             # 0.005 … 0.64
+GOOD = ("settled", "completed")
+
+
+def _finished(records):
+    return [r for r in records if r.get("status") in GOOD and r.get("DC_percent")]
+
+
+def dc_curve(case, law: str, out: Path, workers) -> tuple[np.ndarray, np.ndarray]:
+    """(B, DC %) of the law's grid (seed 0), sorted by B."""
+    rows = [SweepRow(f"B{B:.5g}", {**dict(o.split("=", 1) for o in fabric_keys(B) + LAWS[law])})
+            for B in GRIDS[law]]
+    sweep(case, rows, out, workers)
+    recs = _finished(read_results(out / "results.csv"))
+    B = np.array([float(r["material.kes.B_warp"]) for r in recs])
+    dc = np.array([float(r["DC_percent"]) for r in recs])
+    order = np.argsort(B)
+    return B[order], dc[order]
+
+
+def sweep(case, rows, out: Path, workers) -> None:
+    """Run ``rows`` into ``out``, continuing a sweep already there."""
+    run_sweep(case, rows, out, workers=workers, resume=(out / "results.csv").exists(), quiet=False)
+
+
+def matched_B(B, dc, target: float) -> float | None:
+    """B at which the grid's DC reaches ``target``: linear in log B between the two grid
+    points around it, on the grid's running maximum (DC grows with B); None off the grid."""
+    mono = np.maximum.accumulate(dc)
+    if not (mono[0] <= target <= mono[-1]):
+        return None
+    logB = np.log(B)
+    i = int(np.searchsorted(mono, target))
+    i = min(max(i, 1), len(B) - 1)
+    lo, hi = mono[i - 1], mono[i]
+    s = 0.0 if hi == lo else (target - lo) / (hi - lo)
+    return float(np.exp(logB[i - 1] + s * (logB[i] - logB[i - 1])))
+
+
+def read_fabrics(scans: str, out: Path) -> list[dict]:
+    """Per-fabric measured DC and node counts (``scan_descriptors.py``'s fabrics.csv)."""
+    import scan_descriptors
+    folder = out / "scans"
+    if not (folder / "fabrics.csv").exists():
+        scan_descriptors.main([scans, "--out", str(folder)])
+    with open(folder / "fabrics.csv", newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def _nodes(recs) -> list[int]:
+    return sorted(int(float(r["nodes"])) for r in recs if r.get("nodes"))
+
+
+def compare(fabrics, case, laws, seeds: int, out: Path, workers) -> list[dict]:
+    """One row per (fabric, law): matched B, the model's DCs and node counts."""
+    table = []
+    for law in laws:
+        B, dc = dc_curve(case, law, out / f"grid_{law}", workers)
+        rows, target = [], {}
+        for fab in fabrics:
+            Bm = matched_B(B, dc, float(fab["DC_mean"]))
+            target[fab["fabric"]] = Bm
+            if Bm is None:
+                continue
+            keys = fabric_keys(float(f"{Bm:.4g}")) + LAWS[law]
+            for seed in range(seeds if law == laws[0] else 1):
+                rows.append(SweepRow(f"fabric{fab['fabric']}_s{seed}",
+                                     dict(o.split("=", 1) for o in keys
+                                          + [f"load.perturbation.seed={seed}"])))
+        sweep(case, rows, out / f"matched_{law}", workers)
+        recs = _finished(read_results(out / f"matched_{law}" / "results.csv"))
+        for fab in fabrics:
+            mine = [r for r in recs if r["name"].rsplit("_s", 1)[0] == f"fabric{fab['fabric']}"]
+            nodes = _nodes(mine)
+            lo, hi = int(float(fab["nodes_min"])), int(float(fab["nodes_max"]))
+            table.append({
+                "fabric": fab["fabric"], "law": law, "measured_DC": float(fab["DC_mean"]),
+                "measured_DC_std": float(fab["DC_std"]), "measured_nodes_min": lo,
+                "measured_nodes_max": hi, "measured_nodes_mode": fab.get("nodes_mode", ""),
+                "B_matched": target[fab["fabric"]],
+                "model_DC": (float(np.mean([float(r["DC_percent"]) for r in mine]))
+                             if mine else None),
+                "model_nodes": " ".join(map(str, nodes)),
+                "within": sum(lo <= n <= hi for n in nodes), "runs": len(nodes)})
+    return table
+
+
+def markdown(table: list[dict]) -> str:
+    lines = ["| fabric | measured DC % | measured nodes | law | B matched (gf·cm²/cm) | "
+             "model DC % | model nodes | in range |", "|---|---|---|---|---|---|---|---|"]
+    for r in table:
+        B = "off grid" if r["B_matched"] is None else f"{r['B_matched']:.4g}"
+        dc = "–" if r["model_DC"] is None else f"{r['model_DC']:.1f}"
+        lines.append(f"| {r['fabric']} | {r['measured_DC']:.1f} ± {r['measured_DC_std']:.1f} | "
+                     f"{r['measured_nodes_min']}–{r['measured_nodes_max']} | {r['law']} | {B} | "
+                     f"{dc} | {r['model_nodes']} | {r['within']} of {r['runs']} |")
+    return "\n".join(lines)
+
+
+def plot(table: list[dict], path: Path) -> None:
+    """Node count against DC: the measured ranges as bars, the model's runs as markers."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    seen = set()
+    for r in table:
+        if r["law"] == table[0]["law"]:
+            ax.vlines(r["measured_DC"], r["measured_nodes_min"], r["measured_nodes_max"],
+                      color="0.5", lw=6, alpha=0.5,
+                      label=None if "m" in seen else "measured range (scans)")
+            seen.add("m")
+        style = {"tensor": ("o", "C0"), "per_direction": ("x", "C3")}[r["law"]]
+        for n in map(int, r["model_nodes"].split()):
+            ax.plot(r["model_DC"], n, style[0], color=style[1], ms=6,
+                    label=None if r["law"] in seen else f"model, {r['law']} friction")
+            seen.add(r["law"])
+    ax.set_xlabel("drape coefficient (%)")
+    ax.set_ylabel("nodes")
+    ax.set_title("Node count at matched DC (30 cm on 18 cm)")
+    ax.legend(loc="upper right")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("scans", help="registered scans of real Cusick drapes (.npz)")
+    p.add_argument("--out", default="out/matched")
+    p.add_argument("--laws", nargs="+", choices=list(LAWS), default=list(LAWS),
+                   help="friction laws; the first gets --seeds seeds, the others one")
+    p.add_argument("--seeds", type=int, default=3)
+    p.add_argument("--case", default=str(ROOT / "cases" / "cusick_kes.toml"))
+    p.add_argument("--workers", type=int, default=None)
+    args = p.parse_args(argv)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    fabrics = read_fabrics(args.scans, out)
+    table = compare(fabrics, args.case, args.laws, args.seeds, out, args.workers)
+    with open(out / "matched.csv", "w", newline="") as fh:
+        writer = csv.DictWriter(fh, list(table[0]))
+        writer.writeheader()
+        writer.writerows(table)
+    text = markdown(table)
+    (out / "matched.md").write_text(text + "\n")
+    plot(table, out / "nodes_at_matched_dc.png")
+    print(text)
+    for law in args.laws:
+        rows = [r for r in table if r["law"] == law]
+        print(f"{law}: most frequent model node count within the measured range for "
+              f"{sum(_mode_within(r) for r in rows)} of {len(rows)} fabrics")
+    return 0
+
+
+def _mode_within(r) -> bool:
+    nodes = list(map(int, r["model_nodes"].split()))
+    if not nodes:
+        return False
+    mode = max(set(nodes), key=lambda n: (nodes.count(n), -n))
+    return r["measured_nodes_min"] <= mode <= r["measured_nodes_max"]
+
+
+if __name__ == "__main__":
+    sys.exit(main())
