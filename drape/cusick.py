@@ -19,7 +19,9 @@ exceeds both a fraction of its peak-to-peak amplitude and an absolute floor (a
 fraction of the overhang ``R - r_d``), so that a nearly flat outline with
 numerical ripples counts zero nodes.  The depth of a node is its peak radius
 minus the mean of the two troughs beside it (for ``r = r0 + A cos(n phi)`` every
-depth is ``2 A``).
+depth is ``2 A``).  The outline's harmonic amplitudes (:mod:`drape.outline`) describe it
+whatever the drape's orientation on the disc, and :mod:`drape.measure` reads a scanned drape
+through these same functions.
 
 Simulating the test (``cases/cusick_*.toml``, run by :mod:`drape.run` with
 ``[case] analysis = "cusick"``): the large-rotation Kirchhoff-Love shell on
@@ -39,19 +41,11 @@ import numpy as np
 import shapely
 from scipy.signal import find_peaks
 
+from drape.outline import outline_harmonics
 
-__all__ = [
-    "CusickError",
-    "CusickResult",
-    "shadow_polygon",
-    "boundary_radius",
-    "find_nodes",
-    "drape_coefficient",
-    "skirt_tension",
-    "drape_analysis",
-    "plot_top_view",
-    "cusick_post",
-]
+
+__all__ = ["CusickError", "CusickResult", "shadow_polygon", "boundary_radius", "find_nodes",
+           "drape_coefficient", "skirt_tension", "drape_analysis", "plot_top_view", "cusick_post"]
 
 
 class CusickError(ValueError):
@@ -318,7 +312,8 @@ class CusickResult:
         return self.angles[self.node_indices]
 
     def summary(self) -> dict:
-        """JSON-ready scalars: DC, node count, depths (m) and angles (deg)."""
+        """JSON-ready scalars: DC, node count, depths (m), angles (deg) and the outline's
+        harmonic amplitudes ``a_0 .. a_20`` (m, :func:`drape.outline.outline_harmonics`)."""
         return {
             "drape_coefficient": self.drape_coefficient,
             "drape_coefficient_percent": 100.0 * self.drape_coefficient,
@@ -329,6 +324,7 @@ class CusickResult:
             "shadow_area_m2": float(self.shadow.area),
             "outline_radius_min_m": float(self.radius.min()),
             "outline_radius_max_m": float(self.radius.max()),
+            "outline_harmonics_m": [float(a) for a in outline_harmonics(self.radius)],
             **self.extra,
         }
 
@@ -444,6 +440,10 @@ def _nodal_displacement(mesh, displacement) -> np.ndarray:
     return u
 
 
+_DETECTION_OPTIONS = {"n_samples": int, "rel_prominence": float,
+                      "min_prominence_fraction": float, "max_mode": lambda v: v}
+
+
 def cusick_post(mesh, displacement, cusick: dict, out_dir=None, name: str = "cusick",
                 surface=None) -> dict:
     """Runner hook: analyse a settled Cusick drape and write the top view.
@@ -476,12 +476,11 @@ def cusick_post(mesh, displacement, cusick: dict, out_dir=None, name: str = "cus
     u = _nodal_displacement(mesh, displacement)
     vertices = np.column_stack([mesh.p.T[:, :2], np.zeros(mesh.p.shape[1])]) + u
     pts, tri = (vertices, mesh.t.T) if surface is None else surface
+    # only the options the table sets: drape_analysis's defaults are the one detection rule,
+    # shared with a measured drape (drape.measure)
+    options = {k: cast(cusick[k]) for k, cast in _DETECTION_OPTIONS.items() if k in cusick}
     res = drape_analysis(pts, tri, 0.5 * float(cusick["specimen_diameter"]),
-                         0.5 * float(cusick["disc_diameter"]),
-                         n_samples=int(cusick.get("n_samples", 720)),
-                         rel_prominence=float(cusick.get("rel_prominence", 0.15)),
-                         min_prominence_fraction=float(cusick.get("min_prominence_fraction", 0.02)),
-                         max_mode=cusick.get("max_mode", 20))
+                         0.5 * float(cusick["disc_diameter"]), **options)
     out = res.summary()
     if surface is not None:
         # what the vertex triangles alone would give: the gap is the mesh's drawing error
