@@ -100,7 +100,7 @@ def compare(fabrics, case, laws, seeds: int, out: Path, workers) -> list[dict]:
         B, dc = dc_curve(case, law, out / f"grid_{law}", workers)
         rows, target = [], {}
         for fab in fabrics:
-            Bm = matched_B(B, dc, float(fab["DC_mean"]))
+            Bm = matched_B(B, dc, float(fab["dc_mean"]))
             target[fab["fabric"]] = Bm
             if Bm is None:
                 continue
@@ -116,8 +116,8 @@ def compare(fabrics, case, laws, seeds: int, out: Path, workers) -> list[dict]:
             nodes = _nodes(mine)
             lo, hi = int(float(fab["nodes_min"])), int(float(fab["nodes_max"]))
             table.append({
-                "fabric": fab["fabric"], "law": law, "measured_DC": float(fab["DC_mean"]),
-                "measured_DC_std": float(fab["DC_std"]), "measured_nodes_min": lo,
+                "fabric": fab["fabric"], "law": law, "measured_DC": float(fab["dc_mean"]),
+                "measured_DC_std": float(fab["dc_std"]), "measured_nodes_min": lo,
                 "measured_nodes_max": hi, "measured_nodes_mode": fab.get("nodes_mode", ""),
                 "B_matched": target[fab["fabric"]],
                 "model_DC": (float(np.mean([float(r["DC_percent"]) for r in mine]))

@@ -252,7 +252,7 @@ def test_a_simulated_drape_read_from_its_vtu_gives_the_runs_own_summary(tmp_path
     """Fabric 1 on a coarse annulus (2 x 36), lowered in 0.5 s and stopped at 1 s: a draped
     shape with folds in a few seconds.  Its last VTU (reference mesh and displacement) measured
     as a scan gives the summary's DC (of the vertex triangles exactly, of the sampled surface
-    within 0.5 points), its node count and, about equally, its harmonics."""
+    within 0.5 points), its node count and, about equally, its harmonics below the folds'."""
     from drape.case import load_case
     from drape.output import read_pvd
     from drape.run import run_case
@@ -273,7 +273,9 @@ def test_a_simulated_drape_read_from_its_vtu_gives_the_runs_own_summary(tmp_path
                                                            abs=0.5)
     assert s["n_nodes"] == summary["n_nodes"]
     assert set(summary) >= set(m.result.summary())  # the same keys as a simulated drape
-    np.testing.assert_allclose(s["outline_harmonics_m"], summary["outline_harmonics_m"],
+    # the harmonics below the folds' own (k <= 8 here) are the skirt's shape, which the vertex
+    # triangles and the sampled surface both resolve; the folds' own depend on the sampling
+    np.testing.assert_allclose(s["outline_harmonics_m"][:9], summary["outline_harmonics_m"][:9],
                                atol=1.5e-3)
 
 
