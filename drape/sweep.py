@@ -355,8 +355,8 @@ CONNECT_TIMEOUT = 10
 def _client(scheduler: str | None, workers: int | None, dashboard: bool = False):
     """A Dask client: of ``scheduler`` (or DASK_SCHEDULER_ADDRESS), else of a LocalCluster.
 
-    The local cluster's dashboard is off unless ``dashboard``, and then it listens on
-    127.0.0.1 only (it has no authentication).
+    The local cluster listens on 127.0.0.1 only, its web server (health checks; the dashboard,
+    which has no authentication, only if ``dashboard``) too.
     """
     import dask
     from distributed import Client, LocalCluster
@@ -367,8 +367,8 @@ def _client(scheduler: str | None, workers: int | None, dashboard: bool = False)
         return Client(address, timeout=f"{CONNECT_TIMEOUT}s"), None
     n = workers or os.cpu_count() or 1
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           host="127.0.0.1", dashboard_address="127.0.0.1:0" if dashboard else None,
-                           env=dict(SINGLE_THREADED))
+                           host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                           scheduler_kwargs={"dashboard": dashboard}, env=dict(SINGLE_THREADED))
     return Client(cluster), cluster
 
 
@@ -380,9 +380,12 @@ def _reachable(address: str) -> None:
     cannot be closed cleanly).
     """
     from distributed.comm import parse_address, parse_host_port
+    from distributed.comm.registry import backends
 
     try:
         scheme, location = parse_address(address)
+        if scheme not in backends:
+            raise ValueError(f"unknown scheme {scheme!r}; known: {', '.join(sorted(backends))}")
         host, port = parse_host_port(location) if scheme in ("tcp", "tls") else (None, None)
     except (ValueError, TypeError) as exc:
         raise SweepError(f"--scheduler {address!r}: not a scheduler address ({one_line(exc)}); "

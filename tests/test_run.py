@@ -152,7 +152,7 @@ def test_inspect_draws_the_stopped_run_and_its_history(tmp_path, capsys):
         with Image.open(p) as im:
             assert im.size[0] > 300 and im.size[1] > 300
             assert np.unique(np.asarray(im.convert("L"))).size > 10   # a picture, not a blank
-    assert inspect.main([str(tmp_path), "--field", "nope"]) == 1
+    assert inspect.main([str(tmp_path), "--field", "nope"]) == 2
     assert "available: curvature_xx" in capsys.readouterr().err
 
 
