@@ -59,9 +59,10 @@ def build_mesh(case: Case):
     return mesh
 
 
-#: Most triangles a case may ask for: a hundred times the finest mesh of the convergence
-#: studies, so that a slip of a digit is refused at once instead of filling the memory.
-MAX_TRIANGLES = 1_000_000
+#: Most triangles a case may ask for: seven times the finest mesh of the convergence studies
+#: (a shell model takes some 50 kB a triangle), so that a slip of a digit is refused at once
+#: instead of filling the memory.
+MAX_TRIANGLES = 100_000
 
 
 def triangles_asked(spec) -> float:
