@@ -238,7 +238,7 @@ def main(argv: list[str] | None = None) -> int:
                               resume=args.resume, quiet=args.quiet)
     except (StudyError, SweepError) as exc:
         print(f"error: {exc}", file=sys.stderr)
-        return 1
+        return 2                           # bad input (drape.cli.EXIT_BAD_INPUT)
     except KeyboardInterrupt as exc:
         return stopped(exc, "study", f"continue with --resume --out {out}")
     print(markdown_table(study))

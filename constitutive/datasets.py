@@ -109,7 +109,7 @@ def _factor_to_si(unit, quantity):
     """
     unit = re.sub(r"(?<=[A-Za-z])(-?\d+)\b", r"**\1", unit.strip())
     try:
-        q = _units.ureg.Quantity(1.0, unit)
+        q = _units.ureg.Quantity(1.0, _units.parse_unit(unit))
     except Exception:  # pint raises several unrelated types for unparsable strings
         raise ValueError("is not a unit pint understands") from None
     try:

@@ -95,9 +95,11 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 import time as _time
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 from scipy.optimize import lsq_linear, minimize
@@ -631,8 +633,15 @@ def format_all(fitted, own, variants=THESIS_VARIANTS):
     return "\n".join(lines)
 
 
+class _Parser(argparse.ArgumentParser):
+    """Errors in one line, exit code 2 (bad input), as drape's tools report them."""
+
+    def error(self, message):
+        self.exit(2, f"error: {message} (see {self.prog} --help)\n")
+
+
 def _parser():
-    p = argparse.ArgumentParser(
+    p = _Parser(
         prog="python -m constitutive.fit",
         description="Fit the hysteretic bending law (m κ̈ + d κ̇ + k1 κ + k3 κ³ + M_f) to a KES-FB "
                     "loop: a thesis dataset (" + ", ".join(DATASET_NAMES) + ") or a CSV export "
@@ -661,6 +670,30 @@ def _parser():
     return p
 
 
+#: Exit code of an output file that cannot be written (drape.cli's table: 2 is bad input).
+EXIT_IO = 4
+
+
+def _accel_times(text: str) -> list[float]:
+    """``--sweep-accel T1,T2,...`` as positive, finite numbers (ValueError naming the option)."""
+    try:
+        times = [float(item) for item in text.split(",")]
+    except ValueError:
+        raise ValueError(f"--sweep-accel {text!r}: expected numbers T1,T2,... in seconds") from None
+    if not all(math.isfinite(t) and t > 0 for t in times):
+        raise ValueError(f"--sweep-accel {text!r}: every time must be a number > 0")
+    return times
+
+
+def _writable(path) -> None:
+    """OSError when ``path`` (if given) could not be created: its folder is missing or a file."""
+    if path is None:
+        return
+    folder = Path(path).resolve().parent
+    if not folder.is_dir():
+        raise OSError(f"cannot write {path}: its folder {folder} does not exist")
+
+
 def main(argv=None):
     """Command-line entry point (see ``--help``)."""
     args = _parser().parse_args(argv)
@@ -677,11 +710,20 @@ def main(argv=None):
     if args.data is None:
         _parser().error("give a dataset name or CSV file (or --all-thesis)")
     try:
+        Ts = _accel_times(args.sweep_accel) if args.sweep_accel else None
+    except ValueError as err:
+        _parser().error(str(err))
+    try:
+        for path in (args.json, args.plot):     # before the fit: refused at once, not after it
+            _writable(path)
+    except OSError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return EXIT_IO
+    try:
         curves = load_dataset(args.data, units=args.units)
     except ValueError as err:  # KESDataError: names the file line and the rule
         _parser().error(f"{args.data}: {err}")
-    if args.sweep_accel:
-        Ts = [float(s) for s in args.sweep_accel.split(",")]
+    if Ts:
         print(f"{'T [s]':>8}{'fitted R':>12}{'thesis own':>12}")
         for T in Ts:
             r = fit(curves, args.variant, T, fit_mass=args.fit_mass)
@@ -695,8 +737,12 @@ def main(argv=None):
         print(f"thesis Table {THESIS_RESIDUALS[curves.name]['table']}: residual "
               f"{THESIS_RESIDUALS[curves.name][args.variant]:.4e}")
     if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(r.to_json(), fh, indent=2)
+        try:
+            with open(args.json, "w") as fh:
+                json.dump(r.to_json(), fh, indent=2)
+        except OSError as err:
+            print(f"error: cannot write {args.json}: {err.strerror or err}", file=sys.stderr)
+            return EXIT_IO
     if args.plot:
         from constitutive.plots import plot_fit
 
@@ -705,4 +751,6 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    from constitutive.fit import main as _main   # the imported module's main, as drape's tools do
+
+    sys.exit(_main())

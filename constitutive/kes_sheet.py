@@ -71,7 +71,7 @@ from typing import Annotated
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
 from constitutive.tensile import DEFAULT_LINEARITY, MAX_LOAD_KES, TensileCurve
-from constitutive.units import G0, to_si, ureg
+from constitutive.units import G0, parse_quantity, to_si, ureg
 
 __all__ = ["SHEET", "SheetKey", "read_sheet_value", "sheet_field", "KesSpec", "KesFabricSpec",
            "TENSILE_LOAD", "LT_TOLERANCE"]
@@ -161,7 +161,7 @@ def read_sheet_value(kind: str, value) -> float:
     spec = SHEET[kind]
     if isinstance(value, str):
         try:
-            x = _to_sheet_unit(spec, ureg.Quantity(value))
+            x = _to_sheet_unit(spec, parse_quantity(value))
         except Exception as exc:  # pint's errors, or text that is no quantity at all
             raise ValueError(f"cannot read {value!r} as a quantity in {spec.label} ({exc})") from None
         if not _in_range(spec, x):

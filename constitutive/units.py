@@ -41,15 +41,23 @@ slope ``1.21e-2 gf·cm²/cm`` of Table B.1, ``s_p = 3 ε_f`` printed in cm⁻¹)
 1.0
 >>> round(to_si(17.15, "weight"), 12)
 0.1715
+
+Unit strings from files and the command line (``"5 cm"``, ``"0.5 1/cm/s"``) are read by
+:func:`parse_quantity`: a number, then a unit built from the registry's unit names with
+``*``, ``/``, ``·`` (or ``.``), parentheses and small integer powers. They are parsed, never evaluated, so no
+string can make the reader compute (``"9**9**9 cm"`` is refused at once).
 """
 from __future__ import annotations
 
+import math
+import re
 from functools import lru_cache
 
 import numpy as np
 import pint
 
-__all__ = ["ureg", "KES_UNITS", "SI_UNITS", "to_si", "to_kes", "factor", "G0"]
+__all__ = ["ureg", "KES_UNITS", "SI_UNITS", "to_si", "to_kes", "factor", "G0", "parse_quantity",
+           "parse_unit"]
 
 ureg = pint.UnitRegistry()
 ureg.define("gmf = gram_force")   # the thesis writes "gmf"
@@ -114,3 +122,103 @@ def to_si(value, name: str):
 def to_kes(value, name: str):
     """Convert ``value`` of quantity ``name`` from SI to KES units."""
     return np.asarray(value, dtype=float) / factor(name) if np.ndim(value) else float(value) / factor(name)
+
+
+# --------------------------------------------------------------------------- unit strings
+#: A float literal: what a person writes for a magnitude (no expressions, no inf or nan).
+_NUMBER = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*")
+#: The pieces a unit may be written with: a name, a power (an integer of at most two digits,
+#: so no power can be large), an operator, parentheses, blanks (a product, as in "N m").
+_UNIT_TOKEN = re.compile(r"(?P<name>[^\W\d]\w*)|(?P<power>(?:\*\*|\^)\(?-?\d{1,2}\)?)"
+                         r"|(?P<one>1(?=\s*/))|(?P<op>[*/·×.])|(?P<paren>[()])|(?P<blank>\s+)")
+_SUPERSCRIPTS = str.maketrans({"²": "**2", "³": "**3", "⁻": None, "¹": None})
+_LONGEST = 80
+
+
+def parse_unit(text: str):
+    """The pint unit written in ``text``: unit names of the registry joined by ``*``, ``/``,
+    ``·`` or ``.``, blanks and parentheses, each with an optional integer power (``**2``, ``^-1``).
+
+    Raises ``ValueError`` (one line) for anything else.
+
+    >>> str(parse_unit("1/cm/s")), str(parse_unit("g/m^2")), str(parse_unit("gf·cm²/cm"))
+    ('1 / centimeter / second', 'gram / meter ** 2', 'centimeter * force_gram')
+    >>> parse_unit("cm**9**9")
+    Traceback (most recent call last):
+    ...
+    ValueError: '**9' at 5 is not part of a unit (a unit name, *, /, parentheses, a power of at most two digits)
+    """
+    text = text.strip().replace("⁻¹", "**-1").translate(_SUPERSCRIPTS).replace("%", "percent")
+    if len(text) > _LONGEST:
+        raise ValueError(f"a unit of {len(text)} characters is too long (at most {_LONGEST})")
+    if not text:
+        return ureg.dimensionless
+    pos, depth, last = 0, 0, "op"
+    while pos < len(text):
+        token = _UNIT_TOKEN.match(text, pos)
+        kind = token.lastgroup if token else None
+        if kind == "power" and last not in ("name", "paren"):
+            kind = None
+        if kind is None:
+            bad = (token.group() if token else text[pos:pos + 3])
+            raise ValueError(f"{bad!r} at {pos} is not part of a unit (a unit name, *, /, "
+                             f"parentheses, a power of at most two digits)")
+        if kind == "name" and not _known(token.group()):
+            raise ValueError(f"{token.group()!r} is not a unit name pint knows")
+        if kind == "paren":
+            depth += 1 if token.group() == "(" else -1
+            if depth < 0:
+                raise ValueError(f"unbalanced ')' at {pos}")
+        if kind != "blank":
+            last = "paren" if token.group() == ")" else kind
+        pos = token.end()
+    if depth:
+        raise ValueError("unbalanced '('")
+    try:
+        return ureg.parse_units(re.sub(r"[·×.]", "*", text).replace("^", "**"))
+    except Exception as exc:  # pint raises several unrelated types for malformed units
+        raise ValueError(f"{text!r} is not a well-formed unit") from None
+
+
+def parse_quantity(text: str):
+    """The pint quantity written in ``text``: a float literal, then a unit (:func:`parse_unit`).
+
+    Raises ``ValueError`` (one line) for anything else, a magnitude that is not finite
+    included.
+
+    >>> parse_quantity("0.5 1/cm/s").to("1/m/s").magnitude
+    50.0
+    >>> parse_quantity("9**9**9 cm")
+    Traceback (most recent call last):
+    ...
+    ValueError: '9**9**9 cm' is not a number followed by a unit: '**9**9 cm' after the number 9
+    """
+    number = _NUMBER.match(text)
+    if number is None:
+        raise ValueError(f"{_short(text)!r} does not start with a number (e.g. '5 cm')")
+    rest = text[number.end():]
+    if rest[:1] in ("*", "^", "/") and not rest.startswith("/"):
+        raise ValueError(f"{_short(text)!r} is not a number followed by a unit: {_short(rest)!r} "
+                         f"after the number {number.group(1)}")
+    magnitude = float(number.group(1))
+    if not math.isfinite(magnitude):
+        raise ValueError(f"{_short(text)!r}: the number {number.group(1)} is out of range")
+    if rest.startswith("/"):                   # "1/cm": the number is the magnitude
+        rest = "1" + rest
+    try:
+        unit = parse_unit(rest)
+    except ValueError as exc:
+        raise ValueError(f"{_short(text)!r}: {exc}") from None
+    return ureg.Quantity(magnitude, unit)
+
+
+def _known(name: str) -> bool:
+    """Whether ``name`` is a unit of the registry (with a prefix or plural)."""
+    try:
+        return bool(ureg.parse_unit_name(name))
+    except Exception:  # pint's lookups raise assorted errors for odd names
+        return False
+
+
+def _short(text: str, n: int = 40) -> str:
+    return text if len(text) <= n else text[:n] + "…"

@@ -7,6 +7,7 @@ after the case's overrides) raises :class:`RunInputError` naming the key.
 from __future__ import annotations
 
 import logging
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -58,8 +59,38 @@ def build_mesh(case: Case):
     return mesh
 
 
+#: Most triangles a case may ask for: seven times the finest mesh of the convergence studies
+#: (a shell model takes some 50 kB a triangle), so that a slip of a digit is refused at once
+#: instead of filling the memory.
+MAX_TRIANGLES = 100_000
+
+
+def triangles_asked(spec) -> float:
+    """How many triangles ``[mesh]`` asks for (before it is built; a file mesh: 0).
+
+    >>> from drape.schema import CusickMesh
+    >>> triangles_asked(CusickMesh(kind="cusick", n_radial=6, n_circumferential=72, refine=1))
+    3456.0
+    """
+    if spec.kind in ("strip", "rectangle"):
+        return 2.0 * spec.nx * spec.ny
+    if spec.kind != "cusick":
+        return 0.0
+    overhang = (spec.specimen_diameter - spec.disc_diameter) / 2
+    around = math.pi * (spec.specimen_diameter + spec.disc_diameter) / 2
+    radial = spec.n_radial or max(1.0, overhang / spec.target_size)
+    circumferential = spec.n_circumferential or max(8.0, around / spec.target_size)
+    return 2.0 * radial * circumferential * 4.0 ** min(spec.refine, 64)
+
+
 def _make_mesh(spec):
     import meshes
+
+    asked = triangles_asked(spec)
+    if asked > MAX_TRIANGLES:   # before any array is made: the sizes may be absurd
+        raise RunInputError(f"mesh: {asked:.3g} triangles asked for, more than {MAX_TRIANGLES:,}; "
+                            f"check mesh.nx, mesh.ny, mesh.n_radial, mesh.n_circumferential, "
+                            f"mesh.target_size and mesh.refine")
 
     if spec.kind == "strip":
         return meshes.strip(spec.length, spec.width, spec.nx, spec.ny)

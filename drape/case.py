@@ -251,10 +251,15 @@ def load_case(path, overrides: list[str] | None = None) -> Case:
         Unreadable TOML or any schema violation (message names the key and the rule).
     """
     path = Path(path)
+    if path.is_dir():
+        raise CaseError(f"{path} is a folder, not a case file (give a .toml file in it)")
     try:
-        data = tomllib.loads(path.read_text())
+        data = tomllib.loads(path.read_bytes().decode("utf-8"))
     except FileNotFoundError:
         raise CaseError(f"case file {str(path)!r} does not exist") from None
+    except UnicodeDecodeError as exc:
+        raise CaseError(f"{path}: not a text file (a TOML case file is UTF-8 text; byte "
+                        f"{exc.start} is not)") from None
     except tomllib.TOMLDecodeError as exc:
         raise CaseError(f"{path}: not valid TOML ({exc})") from None
     apply_overrides(data, overrides)

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["CHECKPOINT", "Checkpoint", "write_checkpoint", "read_checkpoint"]
+__all__ = ["CHECKPOINT", "Checkpoint", "CheckpointError", "write_checkpoint", "read_checkpoint"]
 
 #: File name of the checkpoint in a run folder.
 CHECKPOINT = "checkpoint.npz"
@@ -75,15 +75,30 @@ def read_checkpoint(directory) -> Checkpoint:
 
     Raises
     ------
-    FileNotFoundError
-        When the folder has no checkpoint (the message says so).
+    CheckpointError
+        When the folder has no checkpoint, or its file is not one (empty, truncated, another
+        file under its name); the message says which.
     """
-    from drape.newmark import NewmarkState
-
     path = Path(directory) / CHECKPOINT
     if not path.exists():
-        raise FileNotFoundError(f"{path}: no checkpoint (was the run started by this version, in "
-                                f"this folder?)")
+        raise CheckpointError(f"{path}: no checkpoint (was the run started by this version, in "
+                              f"this folder?)")
+    try:
+        return _read(path)
+    except OSError:
+        raise
+    except Exception as exc:  # numpy's and zipfile's errors for what is no .npz of ours
+        raise CheckpointError(f"{path} is not a readable checkpoint ({type(exc).__name__}); run "
+                              f"the case again without --resume") from None
+
+
+class CheckpointError(ValueError):
+    """No checkpoint, or a file that is not one (the message says which)."""
+
+
+def _read(path: Path) -> Checkpoint:
+    from drape.newmark import NewmarkState
+
     with np.load(path, allow_pickle=False) as data:
         arrays = {k: data[k] for k in data.files}
     state = NewmarkState(float(arrays.pop("state.t")), arrays.pop("state.u"), arrays.pop("state.v"),
@@ -91,5 +106,7 @@ def read_checkpoint(directory) -> Checkpoint:
     if "state.force" in arrays:
         state.force = arrays.pop("state.force")
     run = json.loads(str(arrays.pop("run")))
+    if not isinstance(run, dict):
+        raise TypeError("its runner counters are not a table")
     model = {k[len("model."):]: v for k, v in arrays.items() if k.startswith("model.")}
     return Checkpoint(state, model, run)

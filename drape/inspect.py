@@ -242,7 +242,9 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point; returns the exit code."""
+    """Command-line entry point; returns the exit code (:data:`drape.cli.EXIT_CODES`)."""
+    from drape.cli import EXIT_BAD_INPUT
+
     args = _parser().parse_args(argv)
     os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
     try:
@@ -259,11 +261,13 @@ def main(argv: list[str] | None = None) -> int:
                 written.append(loop)
     except InspectError as err:
         print(f"error: {err}", file=sys.stderr)
-        return 1
+        return EXIT_BAD_INPUT
     for path in written:
         print(path)
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    from drape.inspect import main as _main   # the imported module's main: its classes are the ones raised
+
+    sys.exit(_main())

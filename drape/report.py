@@ -14,7 +14,6 @@ folders are relative, so the folder can be moved or zipped as a whole.
 """
 from __future__ import annotations
 
-import argparse
 import base64
 import csv
 import html
@@ -328,20 +327,24 @@ def write_report(out_dir) -> Path:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point; returns the exit code."""
-    p = argparse.ArgumentParser(prog="python -m drape.report",
+    """Command-line entry point; returns the exit code (:data:`drape.cli.EXIT_CODES`)."""
+    from drape.cli import EXIT_BAD_INPUT, Parser
+
+    p = Parser(prog="python -m drape.report",
                                 description="Write OUTDIR/report.html for a sweep or a run folder "
                                             "(self-contained: opens offline).")
     p.add_argument("out_dir", metavar="OUTDIR", help="a sweep folder or a run folder")
     args = p.parse_args(argv)
     try:
         path = write_report(args.out_dir)
-    except FileNotFoundError as exc:
+    except FileNotFoundError as exc:       # a folder that holds neither a sweep nor a run
         print(f"error: {exc}", file=sys.stderr)
-        return 1
+        return EXIT_BAD_INPUT
     print(path)
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    from drape.report import main as _main   # the imported module's main: its classes are the ones raised
+
+    sys.exit(_main())

@@ -9,17 +9,21 @@ as it goes (:class:`drape.output.OutputWriter`). Every converged step is appende
 run that stops early (no convergence, Ctrl-C) leaves everything up to its last converged step.
 After the run the case's analysis (:mod:`drape.analyses`) adds its results to ``summary.json``.
 
-Exit codes: 0 completed or settled, 1 bad input (case file, material, mesh), 2 the integrator
-failed to converge (``summary.json`` has ``status = "failed"`` and the reason), 130 interrupted
-(Ctrl-C), 143 terminated (SIGTERM, handled like Ctrl-C). Any other error during the integration
-also leaves ``summary.json`` (``status = "error"``). Every converged step is checkpointed
-(:mod:`drape.checkpoint`); ``python -m drape.run --resume OUTDIR`` continues a stopped run.
+Exit codes (:mod:`drape.cli`): 0 completed or settled, 2 bad input (case file, material, mesh),
+3 the integrator failed to converge (``summary.json`` has ``status = "failed"`` and the reason),
+4 an I/O error (the output folder cannot be written, or another run writes into it), 130
+interrupted (Ctrl-C), 143 terminated (SIGTERM, handled like Ctrl-C), 1 an unexpected error. Each
+is reported as one line on stderr. Any other error during the integration also leaves
+``summary.json`` (``status = "error"``). Every converged step is checkpointed
+(:mod:`drape.checkpoint`); ``python -m drape.run --resume OUTDIR`` continues a stopped run. One
+process at a time writes into an output folder (:mod:`drape.lock`).
 """
 from __future__ import annotations
 
 import argparse
 import json
 import logging
+import os
 import sys
 import time
 from pathlib import Path
@@ -30,7 +34,10 @@ from drape.analyses import ANALYSES, RunContext
 from drape.build import (Parts, RunInputError, build, build_material, build_mesh, initial_fields,
                          solver_options)
 from drape.case import Case, CaseError, describe_schema, dump_case, load_case
-from drape.checkpoint import Checkpoint, read_checkpoint
+from drape.checkpoint import CHECKPOINT, Checkpoint, read_checkpoint
+from drape.cli import (EXIT_CODES, EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_OK, Parser, fail,
+                       guarded)
+from drape.lock import folder_lock
 from drape.output import OutputWriter, read_history
 from drape.recorder import Recorder, progress_bar
 from drape.termination import EXIT_TERMINATED, Terminated, sigterm_raises
@@ -66,6 +73,15 @@ def run_case(case: Case, out_dir, quiet: bool = False, parts: Parts | None = Non
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    with folder_lock(out_dir):
+        return _run_locked(case, out_dir, quiet, parts, source, resume)
+
+
+def _run_locked(case: Case, out_dir: Path, quiet: bool, parts: Parts | None, source: str,
+                resume: Checkpoint | None) -> dict:
+    """:func:`run_case` once ``out_dir`` is locked."""
+    if resume is None:      # a summary left by an earlier run in this folder is not this run's
+        (out_dir / "summary.json").unlink(missing_ok=True)
     handler = _setup_logging(out_dir, "w" if resume is None else "a")
     try:
         header = "# Resolved case: every key with its value (SI units), as run.\n"
@@ -75,7 +91,12 @@ def run_case(case: Case, out_dir, quiet: bool = False, parts: Parts | None = Non
             (out_dir / "case.resolved.toml").write_text(header + dump_case(case))
         log.info("case %s: %s", case.case.name, case.case.description)
         wall0 = time.perf_counter()
-        parts = build(case) if parts is None else parts
+        if parts is None:
+            announce_compiling(case, quiet)
+            try:
+                parts = build(case)
+            except KeyboardInterrupt as exc:   # stopped before its first step: say so on disk
+                return _stopped_while_building(case, out_dir, exc, wall0)
         return _simulate(case, parts, out_dir, quiet, wall0, resume)
     except Exception:
         log.exception("run aborted")
@@ -85,16 +106,81 @@ def run_case(case: Case, out_dir, quiet: bool = False, parts: Parts | None = Non
         handler.close()
 
 
+def announce_compiling(case: Case, quiet: bool = False) -> None:
+    """Say so on stderr when the shell's kernels are about to be compiled (a cold numba cache):
+    the first run of an install waits for them, with nothing else on screen."""
+    if quiet or case.model.kinematics != "large":
+        return
+    import drape.shell_kernels  # noqa: F401  (defines the kernels: nothing is compiled yet)
+    from drape.compiled import cache_is_cold
+
+    if cache_is_cold():
+        print("compiling the shell's kernels (first run only, about a minute)…", file=sys.stderr,
+              flush=True)
+
+
+def _stopped_while_building(case: Case, out_dir: Path, exc: KeyboardInterrupt, wall0: float):
+    """The summary of a run stopped (Ctrl-C, SIGTERM) before its first step."""
+    status, signal = (("terminated", "SIGTERM") if isinstance(exc, Terminated)
+                      else ("interrupted", "the user (Ctrl-C)"))
+    summary = {"case": case.case.name, "description": case.case.description, "status": status,
+               "reason": f"{status} by {signal} while the case was being built",
+               "t_final": 0.0, "settling_time": None, "steps": 0, "vtu_files": 0,
+               "pvd": f"{case.case.name}.pvd", "wall_time_s": time.perf_counter() - wall0}
+    log.warning("%s; start it again with python -m drape.run --resume %s", summary["reason"], out_dir)
+    tmp = out_dir / ".summary.json.tmp"
+    tmp.write_text(json.dumps(summary, indent=2) + "\n")
+    os.replace(tmp, out_dir / "summary.json")
+    return summary
+
+
+class ResumeError(ValueError):
+    """A folder that holds no run to continue (the message says what is missing)."""
+
+
 def resume_run(out_dir, quiet: bool = False) -> dict:
     """Continue the run in ``out_dir`` from its checkpoint (``python -m drape.run --resume``): the
-    case read back from ``case.resolved.toml``, what was written after the checkpoint dropped."""
+    case read back from ``case.resolved.toml``, what was written after the checkpoint dropped.
+
+    A run stopped before its first converged step (no checkpoint) starts again from the
+    beginning. A finished run (``summary.json`` says completed or settled) runs nothing.
+
+    Raises
+    ------
+    ResumeError
+        When ``out_dir`` holds no run, or its summary or checkpoint cannot be read.
+    """
     out_dir = Path(out_dir)
-    done = out_dir / "summary.json"
-    summary = json.loads(done.read_text()) if done.exists() else {}
-    if summary.get("status") in ("completed", "settled"):
-        return summary                            # nothing left to run
-    checkpoint = read_checkpoint(out_dir)
-    return run_case(load_case(out_dir / "case.resolved.toml"), out_dir, quiet, resume=checkpoint)
+    resolved = out_dir / "case.resolved.toml"
+    if not out_dir.is_dir():
+        raise ResumeError(f"{out_dir} is not a folder")
+    with folder_lock(out_dir):
+        summary = read_summary(out_dir)
+        if summary.get("status") in ("completed", "settled"):
+            return summary                        # nothing left to run
+        if not resolved.exists():
+            raise ResumeError(f"{out_dir} holds no run to continue: no case.resolved.toml, no "
+                              f"checkpoint")
+        checkpoint = None
+        if (out_dir / CHECKPOINT).exists() or summary.get("steps", 0) > 0:
+            checkpoint = read_checkpoint(out_dir)
+        source = "" if checkpoint is not None else "\n".join(
+            line[2:] for line in resolved.read_text().splitlines()[1:] if line.startswith("# "))
+        return _run_locked(load_case(resolved), out_dir, quiet, None, source, checkpoint)
+
+
+def read_summary(out_dir: Path) -> dict:
+    """``out_dir/summary.json`` ({} when there is none); :class:`ResumeError` if unreadable."""
+    path = Path(out_dir) / "summary.json"
+    if not path.exists():
+        return {}
+    try:
+        summary = json.loads(path.read_bytes())
+    except (ValueError, UnicodeDecodeError):
+        raise ResumeError(f"{path} is not a run's summary (not JSON)") from None
+    if not isinstance(summary, dict):
+        raise ResumeError(f"{path} is not a run's summary")
+    return summary
 
 
 def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float,
@@ -193,18 +279,17 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
 
 
 # --------------------------------------------------------------------------- CLI
-_EXAMPLES = """\
+_EXAMPLES = f"""\
 example:
   python -m drape.run cases/cantilever.toml --out out/cantilever \\
       --set solver.t_end=0.5 --set mesh.nx=10 --set "mesh.length=3 cm"
   python -m drape.inspect out/cantilever      (pictures of the result)
 
 outputs in DIR: <name>_NNNN.vtu + <name>.pvd (ParaView, pyvista), history.csv,
-summary.json, case.resolved.toml, run.log
+summary.json, case.resolved.toml, run.log, checkpoint.npz; one run at a time writes
+into DIR; continue a stopped run with --resume DIR
 
-exit codes: 0 completed or settled, 1 bad input, 2 no convergence (every converged
-step stays on disk; summary.json says why), 130 interrupted (Ctrl-C), 143 terminated
-(SIGTERM); continue a stopped run with --resume OUTDIR"""
+{EXIT_CODES}"""
 
 
 _OPTIONS = {
@@ -225,7 +310,7 @@ _OPTIONS = {
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = Parser(
         prog="python -m drape.run", epilog=_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter,
         description="Run a fabric bending / drape case file (TOML) and write VTU/PVD, "
                     "history.csv and summary.json.")
@@ -236,66 +321,70 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point; returns the exit code."""
+    """Command-line entry point; returns the exit code (:data:`drape.cli.EXIT_CODES`).
+
+    Every problem is one line on stderr; Ctrl-C and SIGTERM stop it at any point with 130 and
+    143 (a run stopped during its build leaves a summary.json that says so).
+    """
     parser = _parser()
     args = parser.parse_args(argv)
     if args.help_case:
         print(describe_schema())
-        return 0
+        return EXIT_OK
     if args.resume is not None:
         return _resume(args)
     if args.case is None:
         parser.error("the case file is required (or --help-case, --resume OUTDIR)")
-    try:
-        case = load_case(args.case, args.overrides)
-        if args.check:
-            parts = build(case)
-            print(f"{case.case.name}: OK — {type(parts.model).__name__}, {parts.model.ndofs} dofs "
-                  f"({len(parts.model.fixed_dofs)} fixed), {parts.mesh.t.shape[1]} triangles, "
-                  f"material {getattr(parts.material, 'name', '?')}, "
-                  f"t_end = {case.solver.t_end:g} s, dt = {case.solver.dt:g} s, "
-                  f"analysis {case.case.analysis}")
-            tension = getattr(parts.material, "membrane_tension", None)
-            if tension is not None:
-                m = parts.material
-                print(f"  membrane taken at T = {tension:.3g} N/m: E11 = {m.E11:.4g} N/m, "
-                      f"E22 = {m.E22:.4g} N/m, G12 = {m.G12:.4g} N/m")
-            alpha, beta = parts.model.rayleigh
-            if alpha or beta:
-                print(f"  damping C = {alpha:.3g} 1/s M + {beta:.3g} s K0")
-            if case.model.damping.drag_coefficient:
-                print(f"  air drag ½ ρ_air C_d |v·n| v·n normal to the fabric, C_d = "
-                      f"{case.model.damping.drag_coefficient:g}")
-            if case.load.agitation is not None:
-                shake = case.load.agitation.describe()
-                print(f"  supports shaken {shake['cycles']} cycles at {shake['frequency_Hz']:g} Hz "
-                      f"from t = {shake['start_s']:g} s to {shake['end_s']:g} s, peak "
-                      f"{shake['peak_acceleration_g']:g} g, stroke {1e3 * shake['stroke_m']:.3g} mm")
-            return 0
-        out = Path(args.out) if args.out else Path("out") / case.case.name
-        source = f"from {args.case}" + "".join(f" --set {o}" for o in args.overrides)
-        with sigterm_raises():
-            summary = run_case(case, out, quiet=args.quiet, source=source)
-    except (CaseError, RunInputError) as exc:
-        print(f"error in {args.case}:\n  " + str(exc).replace("\n", "\n  "), file=sys.stderr)
-        return 1
-    except ValueError as exc:  # bad input caught by a lower layer (material, mesh, model)
-        print(f"error in {args.case}: {exc}", file=sys.stderr)
-        return 1
+    with sigterm_raises():
+        return guarded(_run, args, what=f"in {args.case}")
+
+
+def _run(args) -> int:
+    case = load_case(args.case, args.overrides)
+    if args.check:
+        announce_compiling(case, args.quiet)
+        _print_check(case, build(case))
+        return EXIT_OK
+    out = Path(args.out) if args.out else Path("out") / case.case.name
+    source = f"from {args.case}" + "".join(f" --set {o}" for o in args.overrides)
+    summary = run_case(case, out, quiet=args.quiet, source=source)
     return _report(summary, out, args.quiet)
+
+
+def _print_check(case: Case, parts: Parts) -> None:
+    """What ``--check`` found: the model, its size, the material and the loads."""
+    print(f"{case.case.name}: OK — {type(parts.model).__name__}, {parts.model.ndofs} dofs "
+          f"({len(parts.model.fixed_dofs)} fixed), {parts.mesh.t.shape[1]} triangles, "
+          f"material {getattr(parts.material, 'name', '?')}, "
+          f"t_end = {case.solver.t_end:g} s, dt = {case.solver.dt:g} s, "
+          f"analysis {case.case.analysis}")
+    tension = getattr(parts.material, "membrane_tension", None)
+    if tension is not None:
+        m = parts.material
+        print(f"  membrane taken at T = {tension:.3g} N/m: E11 = {m.E11:.4g} N/m, "
+              f"E22 = {m.E22:.4g} N/m, G12 = {m.G12:.4g} N/m")
+    alpha, beta = parts.model.rayleigh
+    if alpha or beta:
+        print(f"  damping C = {alpha:.3g} 1/s M + {beta:.3g} s K0")
+    if case.model.damping.drag_coefficient:
+        print(f"  air drag ½ ρ_air C_d |v·n| v·n normal to the fabric, C_d = "
+              f"{case.model.damping.drag_coefficient:g}")
+    if case.load.agitation is not None:
+        shake = case.load.agitation.describe()
+        print(f"  supports shaken {shake['cycles']} cycles at {shake['frequency_Hz']:g} Hz "
+              f"from t = {shake['start_s']:g} s to {shake['end_s']:g} s, peak "
+              f"{shake['peak_acceleration_g']:g} g, stroke {1e3 * shake['stroke_m']:.3g} mm")
 
 
 def _resume(args) -> int:
     if args.case is not None or args.overrides or args.out or args.check:
-        print("error: --resume OUTDIR runs OUTDIR/case.resolved.toml: no case, --set, --out, --check",
-              file=sys.stderr)
-        return 1
-    try:
-        with sigterm_raises():
-            summary = resume_run(args.resume, quiet=args.quiet)
-    except (FileNotFoundError, ValueError) as exc:   # CaseError is a ValueError
-        print(f"error: cannot resume {args.resume}: {exc}", file=sys.stderr)
-        return 1
+        return fail("--resume OUTDIR runs OUTDIR/case.resolved.toml: no case, --set, --out, --check")
+    with sigterm_raises():
+        return guarded(_resumed, args, what=f"cannot resume {args.resume}")
+
+
+def _resumed(args) -> int:
+    summary = resume_run(args.resume, quiet=args.quiet)
     return _report(summary, Path(args.resume), args.quiet)
 
 
@@ -303,14 +392,14 @@ def _report(summary: dict, out: Path, quiet: bool) -> int:
     """Print the outcome of a run; return its exit code."""
     name = summary["case"]
     if summary["status"] == "failed":
-        print(f"{name}: FAILED at t = {summary['t_final']:g} s: {summary['reason']}\n"
-              f"  every converged step is kept in {out} ({summary['vtu_files']} VTU files, "
+        print(f"{name}: FAILED at t = {summary['t_final']:g} s: {summary['reason']}; "
+              f"every converged step is kept in {out} ({summary['vtu_files']} VTU files, "
               f"{summary['pvd']})", file=sys.stderr)
-        return 2
+        return EXIT_NOT_CONVERGED
     if summary["status"] in ("interrupted", "terminated"):
         print(f"{name}: {summary['status']} at t = {summary['t_final']:g} s; output kept in {out}; "
               f"continue with: python -m drape.run --resume {out}", file=sys.stderr)
-        return 130 if summary["status"] == "interrupted" else EXIT_TERMINATED
+        return EXIT_INTERRUPTED if summary["status"] == "interrupted" else EXIT_TERMINATED
     if not quiet:
         print(f"{name}: {summary['status']} ({summary['reason']}); "
               f"{summary['steps']} steps in {summary['wall_time_s']:.1f} s; output in {out}")
@@ -318,8 +407,12 @@ def _report(summary: dict, out: Path, quiet: bool) -> int:
             for key, value in summary["analysis"].items():
                 if isinstance(value, (int, float, str)):
                     print(f"  {key}: {value}")
-    return 0
+    return EXIT_OK
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    # run the imported module's main, not this copy's: under ``python -m`` this file is
+    # loaded twice, and only the imported copy's classes are the ones the layers raise
+    from drape.run import main as _main
+
+    sys.exit(_main())

@@ -7,6 +7,8 @@ are in :mod:`drape.loads`; the whole case and its cross-table rules in :mod:`dra
 """
 from __future__ import annotations
 
+import math
+import re
 from typing import Annotated, Literal, Union
 
 from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainValidator, WithJsonSchema,
@@ -29,10 +31,14 @@ def _quantity(unit: str):
         if isinstance(value, str):
             import pint
 
+            from constitutive.units import parse_quantity
+
             try:
-                q = _ureg().Quantity(value)
-                return float(q.to(unit).magnitude)
-            except (pint.errors.PintError, ValueError, AttributeError, TypeError) as exc:
+                si = float(parse_quantity(value).to(unit).magnitude)
+                if not math.isfinite(si):
+                    raise ValueError(f"out of range in {unit or 'dimensionless'} units")
+                return si
+            except (pint.errors.PintError, ValueError) as exc:
                 raise ValueError(
                     f"cannot read {value!r} as a quantity in {unit or 'dimensionless'} units ({exc})"
                 ) from None
@@ -46,7 +52,7 @@ def Q(unit: str, **field_kwargs):
     return Annotated[float, _quantity(unit), Field(**field_kwargs)]
 
 
-_CONFIG = ConfigDict(extra="forbid", strict=True, use_attribute_docstrings=True)
+_CONFIG = ConfigDict(extra="forbid", strict=True, use_attribute_docstrings=True, allow_inf_nan=False)
 
 
 class _Section(BaseModel):
@@ -62,8 +68,9 @@ def _rule(message: str):
 class CaseInfo(_Section):
     """[case]: what this run is."""
 
-    name: str = Field(pattern=r"^[A-Za-z0-9_.-]+$")
-    """File stem of the outputs (``<name>_NNNN.vtu``, ``<name>.pvd``); letters, digits, ``_.-``."""
+    name: str
+    """File stem of the outputs (``<name>_NNNN.vtu``, ``<name>.pvd``) and the default output
+    folder ``out/<name>``: letters, digits, ``_.-``, starting with a letter or digit."""
     description: str = ""
     """Free text, copied into summary.json."""
     analysis: str = "none"
@@ -71,6 +78,14 @@ class CaseInfo(_Section):
     (drape coefficient and folds), ``kes`` (B and 2HB of the simulated moment-curvature loop),
     ``cycle`` (probe displacements at every point of load.gravity.history: the residual
     deformation friction leaves after unloading), ``none``."""
+
+    @field_validator("name")
+    @classmethod
+    def _plain_file_name(cls, value):  # it names files and the default folder out/<name>
+        if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,99}", value):
+            raise ValueError("must be a plain file name of at most 100 letters, digits, '_', '.' "
+                             "or '-', starting with a letter or digit (no '/', no '..')")
+        return value
 
     @field_validator("analysis")
     @classmethod

@@ -25,10 +25,17 @@ others. ``--resume`` keeps the rows already finished and runs only the others (a
 continues from its checkpoint); the sweep's definition is kept in ``DIR/sweep.json``, so
 ``--resume --out DIR`` alone continues it.
 
+A run that finished (its ``summary.json`` says completed or settled, for the same case) is
+never run again: on ``--resume`` its row is read back from its summary, so a sweep stopped and
+resumed gives the same ``results.csv`` as one never stopped.
+
 Statuses: those of :mod:`drape.run` (completed, settled, failed, interrupted, terminated,
 error), ``invalid`` (the row's case does not validate or cannot be built) and ``lost`` (the
-worker running it died). Exit codes: 0 every run finished (whatever its status), 1 bad input,
-130 interrupted (Ctrl-C), 143 terminated (SIGTERM): finished rows stay in ``results.csv``.
+worker running it died). Exit codes (:mod:`drape.cli`): 0 every run finished (whatever its
+status), 2 bad input, 4 an I/O error (the folder cannot be written or another sweep writes
+into it, the scheduler cannot be reached), 130 interrupted (Ctrl-C), 143 terminated
+(SIGTERM): finished rows stay in ``results.csv``. The Dask dashboard is off unless
+``--dashboard`` asks for it, and then it listens on 127.0.0.1 only.
 """
 from __future__ import annotations
 
@@ -39,6 +46,7 @@ import json
 import math
 import os
 import re
+import socket
 import sys
 import time
 import uuid
@@ -46,6 +54,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from drape.case import CaseError
+from drape.cli import EXIT_CODES, EXIT_OK, Parser, code_of, describe, fail, one_line
+from drape.lock import folder_lock
 from drape.termination import sigterm_raises, stopped
 
 __all__ = ["SweepRow", "SweepError", "read_table", "grid_rows", "run_row", "run_sweep",
@@ -169,6 +179,10 @@ def _one_line(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {text}" if not isinstance(exc, (CaseError, ValueError)) else text
 
 
+class SchedulerError(OSError):
+    """The Dask scheduler given cannot be reached (the message names its address)."""
+
+
 def _material_columns(material) -> dict:
     """B of each direction (simulated KES-FB), the weight W and the bending length (B/W)^(1/3).
 
@@ -195,11 +209,17 @@ def _worker_address() -> str:
 
 def _continues(case, run_dir: Path) -> bool:
     """True when ``run_dir`` holds a stopped run of exactly ``case`` with a checkpoint."""
-    from drape.case import dump_case
     from drape.checkpoint import CHECKPOINT
 
+    return (run_dir / CHECKPOINT).exists() and _same_case(case, run_dir)
+
+
+def _same_case(case, run_dir: Path) -> bool:
+    """True when ``run_dir/case.resolved.toml`` is ``case``."""
+    from drape.case import dump_case
+
     resolved = run_dir / "case.resolved.toml"
-    if not (resolved.exists() and (run_dir / CHECKPOINT).exists()):
+    if not resolved.exists():
         return False
     body = "".join(line for line in resolved.read_text().splitlines(keepends=True)
                    if not line.startswith("#"))
@@ -232,23 +252,56 @@ def run_row(case_path: str, overrides: list[str], run_dir: str, resume: bool = F
         return {**out, "status": "error", "reason": _one_line(exc)}
     source = f"from {case_path}" + "".join(f" --set {o}" for o in overrides)
     try:
-        checkpoint = read_checkpoint(run_dir) if resume and _continues(case, Path(run_dir)) else None
+        finished = _finished_run(case, Path(run_dir)) if resume else None
+        if finished is not None:                  # ran to its end before the sweep was stopped
+            return {**out, **_summary_columns(finished), "wall_time_s": finished["wall_time_s"]}
+        checkpoint = _checkpoint(case, Path(run_dir)) if resume else None
         summary = run_case(case, Path(run_dir), quiet=True, parts=parts, source=source,
                            resume=checkpoint)
     except Exception as exc:
         return {**out, "status": "error", "reason": _one_line(exc),
                 "wall_time_s": time.perf_counter() - wall0}
+    return {**out, **_summary_columns(summary), "wall_time_s": time.perf_counter() - wall0}
+
+
+def _summary_columns(summary: dict) -> dict:
+    """The result columns a run's summary gives."""
     analysis = summary.get("analysis", {})
-    out.update({"status": summary["status"],
-                "reason": "" if summary["status"] in ("completed", "settled") else summary["reason"],
-                "DC_percent": analysis.get("drape_coefficient_percent"),
-                "nodes": analysis.get("n_nodes"),
-                "settling_time_s": summary.get("settling_time"),
-                "t_final_s": summary["t_final"], "steps": summary["steps"],
-                "wall_time_s": time.perf_counter() - wall0, "pvd": summary["pvd"]})
+    out = {"status": summary["status"],
+           "reason": "" if summary["status"] in ("completed", "settled") else summary["reason"],
+           "DC_percent": analysis.get("drape_coefficient_percent"),
+           "nodes": analysis.get("n_nodes"),
+           "settling_time_s": summary.get("settling_time"),
+           "t_final_s": summary["t_final"], "steps": summary["steps"], "pvd": summary["pvd"]}
     if "error" in analysis:
         out["reason"] = f"analysis {analysis.get('name')}: {analysis['error']}"
     return out
+
+
+def _finished_run(case, run_dir: Path) -> dict | None:
+    """The summary of a run of exactly ``case`` that finished in ``run_dir``, else None."""
+    from drape.run import ResumeError, read_summary
+
+    try:
+        summary = read_summary(run_dir)
+    except ResumeError:
+        return None
+    if summary.get("status") not in ("completed", "settled") or not _same_case(case, run_dir):
+        return None
+    return summary
+
+
+def _checkpoint(case, run_dir: Path):
+    """The checkpoint of a stopped run of exactly ``case`` in ``run_dir``; None when there is
+    none or it cannot be read (the row then runs from its start)."""
+    from drape.checkpoint import CheckpointError, read_checkpoint
+
+    if not _continues(case, run_dir):
+        return None
+    try:
+        return read_checkpoint(run_dir)
+    except CheckpointError:
+        return None
 
 
 # --------------------------------------------------------------------------- results
@@ -295,18 +348,56 @@ def _cell(value):
 
 
 # --------------------------------------------------------------------------- the sweep
-def _client(scheduler: str | None, workers: int | None):
-    """A Dask client: of ``scheduler`` (or DASK_SCHEDULER_ADDRESS), else of a LocalCluster."""
+#: Seconds to wait for an existing scheduler to answer.
+CONNECT_TIMEOUT = 10
+
+
+def _client(scheduler: str | None, workers: int | None, dashboard: bool = False):
+    """A Dask client: of ``scheduler`` (or DASK_SCHEDULER_ADDRESS), else of a LocalCluster.
+
+    The local cluster listens on 127.0.0.1 only, its web server (health checks; the dashboard,
+    which has no authentication, only if ``dashboard``) too.
+    """
     import dask
     from distributed import Client, LocalCluster
 
     address = scheduler or dask.config.get("scheduler-address", None)
     if address:
-        return Client(address), None
+        _reachable(address)
+        return Client(address, timeout=f"{CONNECT_TIMEOUT}s"), None
     n = workers or os.cpu_count() or 1
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           dashboard_address=":0", env=dict(SINGLE_THREADED))
+                           host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                           scheduler_kwargs={"dashboard": dashboard}, env=dict(SINGLE_THREADED))
     return Client(cluster), cluster
+
+
+def _reachable(address: str) -> None:
+    """Check that ``address`` is a scheduler address and that something listens there.
+
+    Raises :class:`SweepError` for an address that is not one and :class:`SchedulerError`
+    when nothing answers, before the sweep writes anything (a client that fails to connect
+    cannot be closed cleanly).
+    """
+    from distributed.comm import parse_address, parse_host_port
+    from distributed.comm.registry import backends
+
+    try:
+        scheme, location = parse_address(address)
+        if scheme not in backends:
+            raise ValueError(f"unknown scheme {scheme!r}; known: {', '.join(sorted(backends))}")
+        host, port = parse_host_port(location) if scheme in ("tcp", "tls") else (None, None)
+    except (ValueError, TypeError) as exc:
+        raise SweepError(f"--scheduler {address!r}: not a scheduler address ({one_line(exc)}); "
+                         f"e.g. tcp://HOST:8786") from None
+    if host is None:
+        return
+    try:
+        with socket.create_connection((host, port), timeout=CONNECT_TIMEOUT):
+            pass
+    except OSError as exc:
+        raise SchedulerError(f"cannot reach the Dask scheduler at {address} "
+                             f"({describe(exc)})") from None
 
 
 def _finished(out: Path, rows: list[SweepRow]) -> list[dict]:
@@ -331,28 +422,43 @@ def _finished(out: Path, rows: list[SweepRow]) -> list[dict]:
 
 def run_sweep(case_path, rows: list[SweepRow], out, *, overrides: list[str] | None = None,
               scheduler: str | None = None, workers: int | None = None, resume: bool = False,
-              quiet: bool = False) -> list[dict]:
+              quiet: bool = False, dashboard: bool = False) -> list[dict]:
     """Run ``rows`` of ``case_path`` into ``out``; return the results.csv records of this call.
 
-    ``overrides`` (``--set`` items) apply to every row, before the row's own keys.
+    ``overrides`` (``--set`` items) apply to every row, before the row's own keys. One sweep
+    at a time writes into ``out`` (:mod:`drape.lock`); nothing is written before the cluster
+    answers.
     """
-    from distributed import as_completed
-    from tqdm import tqdm
-
     out = Path(out).resolve()
     case_path = str(Path(case_path).resolve())
     out.mkdir(parents=True, exist_ok=True)
-    overrides = list(overrides or [])
-    keep = _finished(out, rows) if resume else []
-    if not resume and (out / "results.csv").exists():
-        raise SweepError(f"{out / 'results.csv'} exists: continue it with --resume, or use a new "
-                         f"--out")
-    _write_definition(out, case_path, rows, overrides)
+    with folder_lock(out):
+        keep = _finished(out, rows) if resume else []
+        if not resume and (out / "results.csv").exists():
+            raise SweepError(f"{out / 'results.csv'} exists: continue it with --resume, or use a "
+                             f"new --out")
+        client, cluster = _client(scheduler, workers, dashboard)
+        try:
+            if dashboard and cluster is not None and not quiet:
+                print(f"dashboard: {cluster.dashboard_link}", file=sys.stderr)
+            _write_definition(out, case_path, rows, overrides or [])
+            return _submit(client, case_path, rows, out, list(overrides or []), keep, resume, quiet)
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+def _submit(client, case_path: str, rows: list[SweepRow], out: Path, overrides: list[str],
+            keep: list[dict], resume: bool, quiet: bool) -> list[dict]:
+    """Run the rows not in ``keep`` on ``client``, adding each to results.csv as it finishes."""
+    from distributed import as_completed
+    from tqdm import tqdm
+
     done = {rec["name"] for rec in keep}
     todo = [r for r in rows if r.name not in done]
     results = _Results(out / "results.csv", rows, keep)
     records = []
-    client, cluster = _client(scheduler, workers)
     bar = tqdm(total=len(rows), initial=len(done), disable=quiet, unit="run", desc="runs",
                file=sys.stderr)
     futures = {}
@@ -374,13 +480,10 @@ def run_sweep(case_path, rows: list[SweepRow], out, *, overrides: list[str] | No
             bar.set_postfix_str(f"{row.name}: {result['status']}", refresh=False)
             bar.update(1)
     finally:
+        if futures:       # first of all: no row may start once the sweep is stopped
+            client.cancel(list(futures), force=True)
         bar.close()
         results.close()
-        for fut in futures:
-            fut.cancel()
-        client.close()
-        if cluster is not None:
-            cluster.close()
     return records
 
 
@@ -404,7 +507,7 @@ def _read_definition(out: Path):
 
 # --------------------------------------------------------------------------- CLI
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = Parser(
         prog="python -m drape.sweep",
         description="Run a base case over a run table or a grid of case keys, on Dask; "
                     "results.csv gets one row per finished run.",
@@ -417,9 +520,7 @@ def _parser() -> argparse.ArgumentParser:
                "  python -m drape.sweep cases/cusick_kes.toml --seeds 5 --out out/seeds\n"
                "  python -m drape.sweep --resume --out out/catalogue\n"
                "  python -m drape.sweep ... --scheduler tcp://10.0.0.5:8786   (an existing "
-               "cluster)\n\n"
-               "exit codes: 0 all runs done (see each run's status), 1 bad input, "
-               "130 interrupted, 143 terminated",
+               "cluster)\n\n" + EXIT_CODES,
     )
     p.add_argument("case", nargs="?", help="base case file (TOML)")
     rows = p.add_mutually_exclusive_group()
@@ -431,6 +532,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--out", metavar="DIR", required=True, help="sweep folder")
     add_batch_options(p, resume="keep the finished rows of DIR/results.csv and run the others",
                       quiet="no progress bar, no final table")
+    p.add_argument("--dashboard", action="store_true",
+                   help="serve the local cluster's Dask dashboard on 127.0.0.1 (it has no "
+                        "authentication; off by default)")
     return p
 
 
@@ -449,57 +553,78 @@ def add_batch_options(p, resume: str, quiet: str = "no progress bars") -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point; returns the exit code."""
+    """Command-line entry point; returns the exit code (:data:`drape.cli.EXIT_CODES`)."""
     args = _parser().parse_args(argv)
     out = Path(args.out)
-    try:
-        if args.workers is not None and args.workers < 1:
-            raise SweepError(f"--workers = {args.workers}: must be >= 1")
-        if args.case is None:
-            if not args.resume:
-                raise SweepError("the base case file is required (or --resume --out DIR)")
-            case_path, rows, overrides = _read_definition(out)
-        else:
-            if not (args.table or args.grid or args.seeds):
-                raise SweepError("give the runs: --table CSV, --grid KEY=V1,V2,... or --seeds N")
-            rows = read_table(args.table) if args.table else grid_rows(args.grid) if args.grid else None
-            case_path, overrides = args.case, args.overrides
-            if not Path(case_path).exists():
-                raise SweepError(f"case file {case_path!r} does not exist")
-            if args.seeds is not None:
-                from drape.ensemble import seeded
+    with sigterm_raises():
+        try:
+            records = _sweep(args, out)
+        except KeyboardInterrupt as exc:
+            return stopped(exc, "sweep", f"finished runs are in {out / 'results.csv'} "
+                                         f"(continue with --resume)")
+        except (Exception) as exc:    # every problem is one line, with the code of its kind
+            return fail(describe(exc), code_of(exc))
+    _print_records(records, out, args.quiet)
+    return _finish(out, args.quiet)
 
-                rows = _checked(seeded(case_path, overrides, rows, args.seeds), "--seeds")
-        with sigterm_raises():
-            records = run_sweep(case_path, rows, out, overrides=overrides,
-                                scheduler=args.scheduler, workers=args.workers,
-                                resume=args.resume, quiet=args.quiet)
-    except SweepError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt as exc:
-        return stopped(exc, "sweep", f"finished runs are in {out / 'results.csv'} (continue with --resume)")
-    if not args.quiet:
-        for rec in records:
-            dc = f", DC {float(rec['DC_percent']):.1f} %" if rec["DC_percent"] != "" else ""
-            why = f": {rec['reason']}" if rec["reason"] else ""
-            print(f"{rec['name']}: {rec['status']}{dc}{why}")
-        print(f"results in {out / 'results.csv'}")
+
+def _sweep(args, out: Path) -> list[dict]:
+    """The rows the options give, run (:func:`run_sweep`)."""
+    if args.workers is not None and args.workers < 1:
+        raise SweepError(f"--workers = {args.workers}: must be >= 1")
+    if args.seeds is not None and args.seeds < 1:
+        raise SweepError(f"--seeds = {args.seeds}: must be >= 1")
+    if args.case is None:
+        if not args.resume:
+            raise SweepError("the base case file is required (or --resume --out DIR)")
+        case_path, rows, overrides = _read_definition(out)
+    else:
+        if not (args.table or args.grid or args.seeds):
+            raise SweepError("give the runs: --table CSV, --grid KEY=V1,V2,... or --seeds N")
+        rows = read_table(args.table) if args.table else grid_rows(args.grid) if args.grid else None
+        case_path, overrides = args.case, args.overrides
+        if not Path(case_path).is_file():
+            raise SweepError(f"case file {case_path!r} does not exist")
+        if args.seeds is not None:
+            from drape.ensemble import seeded
+
+            rows = _checked(seeded(case_path, overrides, rows, args.seeds), "--seeds")
+    return run_sweep(case_path, rows, out, overrides=overrides, scheduler=args.scheduler,
+                     workers=args.workers, resume=args.resume, quiet=args.quiet,
+                     dashboard=args.dashboard)
+
+
+def _print_records(records: list[dict], out: Path, quiet: bool) -> None:
+    if quiet:
+        return
+    for rec in records:
+        dc = f", DC {float(rec['DC_percent']):.1f} %" if rec["DC_percent"] != "" else ""
+        why = f": {rec['reason']}" if rec["reason"] else ""
+        print(f"{rec['name']}: {rec['status']}{dc}{why}")
+    print(f"results in {out / 'results.csv'}")
+
+
+def _finish(out: Path, quiet: bool) -> int:
+    """ensemble.json and report.html of the finished sweep; the exit code."""
     from drape.ensemble import describe_ensemble, ensembles, write_ensembles
     from drape.report import write_report
 
     try:
-        if write_ensembles(out) is not None and not args.quiet:
+        if write_ensembles(out) is not None and not quiet:
             print("\n".join(describe_ensemble(e) for e in ensembles(out)))
         report = write_report(out)
     except Exception as exc:  # the runs and results.csv are done; the page can be made again
         print(f"report.html not written ({_one_line(exc)}); try python -m drape.report {out}",
               file=sys.stderr)
-        return 0
-    if not args.quiet:
+        return EXIT_OK
+    if not quiet:
         print(f"report in {report}")
-    return 0
+    return EXIT_OK
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    # run the imported module's main, not this copy's: under ``python -m`` this file is
+    # loaded twice, and only the imported copy's SweepError is the one the layers raise
+    from drape.sweep import main as _main
+
+    sys.exit(_main())

@@ -164,7 +164,8 @@ def validation_figure(records: list[dict], size: float = 3.6):
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point; returns the exit code."""
+    """Command-line entry point; returns the exit code (:data:`drape.cli.EXIT_CODES`)."""
+    from drape.cli import EXIT_BAD_INPUT, EXIT_IO, describe
     from drape.sweep import SweepError, add_batch_options
     from drape.termination import sigterm_raises, stopped
 
@@ -190,7 +191,10 @@ def main(argv: list[str] | None = None) -> int:
                                      quiet=args.quiet)
     except (ValidationSetError, SweepError) as exc:
         print(f"error: {exc}", file=sys.stderr)
-        return 1
+        return EXIT_BAD_INPUT
+    except OSError as exc:                 # the folder cannot be written, or is in use
+        print(f"error: {describe(exc)}", file=sys.stderr)
+        return EXIT_IO
     except KeyboardInterrupt as exc:
         return stopped(exc, "validation", f"continue with --resume --out {out}")
     print(comparison_table(records))
@@ -201,4 +205,6 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    from drape.validate import main as _main   # the imported module's main: its classes are the ones raised
+
+    sys.exit(_main())

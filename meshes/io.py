@@ -68,6 +68,16 @@ def _facets_of(mesh: MeshTri, name: str, pairs: np.ndarray) -> np.ndarray:
     return np.unique(np.array(found, dtype=np.int64))
 
 
+def _why(exc: BaseException, printed: str) -> str:
+    """meshio's reason in one line: what it printed before giving up, else its message."""
+    if isinstance(exc, UnicodeDecodeError):
+        return "binary data where text was expected"
+    text = " ".join(printed.split())
+    if not text and not isinstance(exc, SystemExit):
+        text = " ".join(str(exc).split())
+    return text or type(exc).__name__
+
+
 def load_mesh(path, boundaries: Mapping[str, Callable] | None = None, scale: float = 1.0,
               min_angle: float = 5.0, required_boundaries=()) -> MeshTri:
     """Read a triangle mesh with meshio and return a checked :class:`skfem.MeshTri`.
@@ -95,12 +105,19 @@ def load_mesh(path, boundaries: Mapping[str, Callable] | None = None, scale: flo
         Nodes not used by any triangle (gmsh geometry points) are dropped.
     """
     path = Path(path)
+    if path.is_dir():
+        raise MeshError(f"{path} is a folder, not a mesh file")
     if not path.is_file():
         raise FileNotFoundError(f"mesh file not found: {path}")
     scale = positive("scale", scale)
     captured = io.StringIO()
-    with contextlib.redirect_stdout(captured):   # meshio prints stray blank lines
-        m = meshio.read(path)
+    try:
+        # meshio prints stray blank lines, and why it gives up before it exits
+        with contextlib.redirect_stdout(captured), contextlib.redirect_stderr(captured):
+            m = meshio.read(path)
+    except (Exception, SystemExit) as exc:  # some of meshio's readers call sys.exit on bad files
+        raise MeshError(f"{path.name}: not a mesh meshio can read "
+                        f"({_why(exc, captured.getvalue())})") from None
     if captured.getvalue().strip():
         warnings.warn(f"meshio reading {path.name}: {captured.getvalue().strip()}")
     tris = [b.data for b in m.cells if b.type == "triangle"]

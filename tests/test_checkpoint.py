@@ -205,8 +205,8 @@ def test_resume_drops_output_written_after_the_checkpoint(tmp_path, uninterrupte
 
 def test_resume_without_a_checkpoint_says_so(tmp_path):
     done = resume(tmp_path)
-    assert done.returncode == 1
-    assert "no checkpoint" in done.stderr
+    assert done.returncode == 2
+    assert "no checkpoint" in done.stderr and len(done.stderr.splitlines()) == 1
 
 
 def test_resume_of_a_completed_run_runs_nothing(tmp_path, uninterrupted):

@@ -171,3 +171,19 @@ def test_cli_reports_bad_csv_rows_by_line(tmp_path, capsys):
         main([str(bad)])
     assert exc.value.code == 2
     assert "bad.csv: line 3: moment 'abc' is not a number" in capsys.readouterr().err
+
+
+def test_cli_refuses_accel_times_that_are_no_numbers_in_one_line(capsys):
+    for bad in ("abc", "0.5,-1", "nan"):
+        with pytest.raises(SystemExit) as exc:
+            main(["fabric1-warp", "--sweep-accel", bad])
+        assert exc.value.code == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"error: --sweep-accel '{bad}'") and len(err.splitlines()) == 1
+
+
+def test_cli_refuses_an_output_in_a_missing_folder_before_fitting(tmp_path, capsys):
+    target = tmp_path / "missing" / "fit.json"
+    assert main(["fabric1-warp", "--json", str(target)]) == 4
+    err = capsys.readouterr().err
+    assert err == f"error: cannot write {target}: its folder {target.parent} does not exist\n"

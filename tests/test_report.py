@@ -118,7 +118,7 @@ def test_run_report_shows_the_summary_and_links_its_files(sweep_dir):
 
 
 def test_report_of_a_folder_without_results_is_an_error(tmp_path, capsys):
-    assert report.main([str(tmp_path)]) == 1
+    assert report.main([str(tmp_path)]) == 2
     assert "neither a sweep" in capsys.readouterr().err
 
 

@@ -173,7 +173,7 @@ def test_bench_tiny_runs_the_factors_and_writes_table_json_and_chart(tmp_path, c
     # the same study again keeps every finished run; another --set is another study
     assert bench.main(args + ["--resume"]) == 0
     assert len(read_results(out / "results.csv")) == 4
-    assert bench.main(args + ["--resume", "--set", "model.damping.alpha=5"]) == 1
+    assert bench.main(args + ["--resume", "--set", "model.damping.alpha=5"]) == 2
     assert "use a new --out" in capsys.readouterr().err
 
 

@@ -81,9 +81,9 @@ def test_validate_runs_every_case_as_an_ensemble_and_compares(tmp_path, capsys, 
 
 
 def test_a_folder_without_validation_cases_is_refused(tmp_path, capsys):
-    assert validate.main([str(tmp_path), "--out", str(tmp_path / "o")]) == 1
+    assert validate.main([str(tmp_path), "--out", str(tmp_path / "o")]) == 2
     assert "no case files" in capsys.readouterr().err
     shutil.copy(ROOT / "cases" / "cusick_kes.toml", tmp_path / "plain.toml")
-    assert validate.main([str(tmp_path), "--out", str(tmp_path / "o")]) == 1
+    assert validate.main([str(tmp_path), "--out", str(tmp_path / "o")]) == 2
     assert "plain.toml: a validation case needs case.analysis = 'cusick' and a [measured] table" \
         in capsys.readouterr().err
