@@ -83,7 +83,7 @@ def _run(args):
     return a compact record from its summary.json."""
     label, case_file, overrides, out, code = args
     code = Path(code or ROOT)
-    cmd = [sys.executable, "-m", "drape.run", str(code / case_file), "--out", str(Path(out).resolve()), "--quiet"]
+    cmd = [sys.executable, "-m", "drape.run.runner", str(code / case_file), "--out", str(Path(out).resolve()), "--quiet"]
     for o in overrides:
         cmd += ["--set", o]
     env = {**os.environ, "PYTHONPATH": str(code)}
@@ -225,7 +225,7 @@ def _checks(records):
             out.append(f"convergence ({fine}): DC {a['dc_percent']:.2f} -> {b['dc_percent']:.2f} % "
                        f"(|change| {abs(a['dc_percent'] - b['dc_percent']):.2f} points, rule < 2); "
                        f"nodes {a['n_nodes']} -> {b['n_nodes']}")
-    from drape.case import load_case
+    from drape.case.case import load_case
 
     for name in TIMESTEP_CASES:
         finest = by.get(f"{name}_dt{min(TIMESTEP_DTS):g}")
@@ -295,7 +295,7 @@ def main(argv=None):
     print(f"{len(todo)} runs, {args.jobs} at a time, {os.cpu_count()} cpus", flush=True)
     t0 = time.perf_counter()
     if args.jobs > 1:
-        from drape.sweep import SINGLE_THREADED
+        from drape.batch.sweep import SINGLE_THREADED
 
         os.environ.update(SINGLE_THREADED)   # one core per run: kernels and PARDISO don't fight
         with ThreadPoolExecutor(args.jobs) as pool:

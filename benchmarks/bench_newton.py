@@ -3,8 +3,8 @@
 Integrates ``cases/cusick_fabric1.toml`` to ``--start`` once, then the window up to ``--end``
 once per variant, from the same state, and prints steps, Newton iterations, force evaluations,
 factorisations, failed attempts and wall time. A variant is a comma-separated list of
-``key=value`` for :func:`drape.newmark.integrate` (``predictor``, ``error_tolerance``) or
-:class:`drape.newton.NewtonPolicy` (``lambda_min``, ``jump_ratio``, ``kink_steps``,
+``key=value`` for :func:`drape.solvers.newmark.integrate` (``predictor``, ``error_tolerance``) or
+:class:`drape.solvers.newton.NewtonPolicy` (``lambda_min``, ``jump_ratio``, ``kink_steps``,
 ``kink_growth``)::
 
     python benchmarks/bench_newton.py --start 0.1 --end 0.2 \\
@@ -48,9 +48,9 @@ def main(argv=None) -> int:
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="case override")
     args = p.parse_args(argv)
     sys.path.insert(0, str(ROOT))
-    from drape import newmark
-    from drape.build import build, initial_fields, solver_options
-    from drape.case import load_case
+    from drape.solvers import newmark
+    from drape.case.build import build, initial_fields, solver_options
+    from drape.case.case import load_case
 
     case = load_case(args.case, args.set)
     model = build(case).model

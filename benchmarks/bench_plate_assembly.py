@@ -1,4 +1,4 @@
-"""Benchmark: assembly of residual + consistent tangent of the Kirchhoff plate (drape/plate.py).
+"""Benchmark: assembly of residual + consistent tangent of the Kirchhoff plate (drape/models/plate.py).
 
 For Morley and Argyris on three square meshes, times ``KirchhoffPlate.residual``
 (cubic + friction law at every quadrature point, element contractions, one
@@ -20,7 +20,7 @@ import skfem
 
 from constitutive.friction import FrictionParams
 from constitutive.law import BendingLaw
-from drape.plate import KirchhoffPlate
+from drape.models.plate import KirchhoffPlate
 
 
 def build(n: int, element: str) -> KirchhoffPlate:
@@ -59,8 +59,8 @@ def time_newmark(n: int, element: str, steps: int = 20, dt: float = 2e-3) -> Non
     """Wall time per Newmark step (fabric1, gravity) with each direct solver back end,
     symmetric (upper triangle) and general."""
     from constitutive.material import load_material
-    from drape.linsolve import DirectSolver, pardiso_available
-    from drape.newmark import integrate
+    from drape.solvers.linear import DirectSolver, pardiso_available
+    from drape.solvers.newmark import integrate
 
     mat = load_material("fabric1")
     mesh = skfem.MeshTri.init_tensor(np.linspace(0, 0.1, n + 1), np.linspace(0, 0.1, n + 1))

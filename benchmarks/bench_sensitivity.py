@@ -80,9 +80,9 @@ Usage::
 
 ``--tiny`` runs every factor on a very coarse, short case (``mesh.n_radial = 2``,
 ``mesh.n_circumferential = 24``, ``solver.t_end = 0.05``): its figures mean nothing. The
-runs go through :mod:`drape.sweep` (Dask, ``OUT/results.csv``, ``--resume``); the study is
+runs go through :mod:`drape.batch.sweep` (Dask, ``OUT/results.csv``, ``--resume``); the study is
 printed as a markdown table and written to ``OUT/sensitivity.md``, ``OUT/sensitivity.json``
-and the tornado chart ``OUT/tornado.png`` (:mod:`drape.sensitivity`).
+and the tornado chart ``OUT/tornado.png`` (:mod:`drape.batch.sensitivity`).
 
 Exit codes: 0 every run finished (whatever its status), 1 bad input, 130 interrupted,
 143 terminated: finished runs stay in ``OUT/results.csv`` (continue with ``--resume``).
@@ -97,7 +97,7 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:            # run as a script from anywhere
     sys.path.insert(0, str(ROOT))
 
-from drape.sensitivity import Factor, Level, StudyError, run_study  # noqa: E402
+from drape.batch.sensitivity import Factor, Level, StudyError, run_study  # noqa: E402
 
 BASE_CASE = ROOT / "cases" / "validation" / "wool_tropical.toml"
 #: The coarse, short case of ``--tiny`` (plumbing only).
@@ -119,7 +119,7 @@ def factors(case) -> list[Factor]:
     if kes is None or pert is None or case.load.gravity is None or case.case.analysis != "cusick":
         raise StudyError("the base case must be a Cusick case with [material.kes], "
                          "[load.gravity] and [load.perturbation]")
-    from drape.build import build_material
+    from drape.case.build import build_material
 
     mesh = case.mesh
     material = build_material(case)       # SI, its membrane taken at the case's tension
@@ -183,10 +183,10 @@ def factors(case) -> list[Factor]:
 
 def main(argv: list[str] | None = None) -> int:
     """Command-line entry point; returns the exit code."""
-    from drape.case import CaseError, load_case
-    from drape.sensitivity import markdown_table, factor_sentences
-    from drape.sweep import SweepError, add_batch_options
-    from drape.termination import sigterm_raises, stopped
+    from drape.case.case import CaseError, load_case
+    from drape.batch.sensitivity import markdown_table, factor_sentences
+    from drape.batch.sweep import SweepError, add_batch_options
+    from drape.run.termination import sigterm_raises, stopped
 
     p = argparse.ArgumentParser(
         prog="python benchmarks/bench_sensitivity.py",
@@ -238,7 +238,7 @@ def main(argv: list[str] | None = None) -> int:
                               resume=args.resume, quiet=args.quiet)
     except (StudyError, SweepError) as exc:
         print(f"error: {exc}", file=sys.stderr)
-        return 2                           # bad input (drape.cli.EXIT_BAD_INPUT)
+        return 2                           # bad input (drape.run.cli.EXIT_BAD_INPUT)
     except KeyboardInterrupt as exc:
         return stopped(exc, "study", f"continue with --resume --out {out}")
     print(markdown_table(study))

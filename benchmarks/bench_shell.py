@@ -15,7 +15,7 @@ timed for
    its next tangent take them (the second reuses the first's kinematics and law trial; every
    other row starts without a kept trial);
 6. the step matrix's restriction to the free dofs (upper triangle, as the symmetric solver
-   takes it): :class:`drape.linsolve.FreeRestriction`'s gather on every core, and the same
+   takes it): :class:`drape.solvers.linear.FreeRestriction`'s gather on every core, and the same
    gather by ``np.take`` for comparison.
 
 The first call compiles the kernels (or loads them from numba's cache) and is reported
@@ -33,8 +33,8 @@ import numba
 import numpy as np
 
 from constitutive.material import load_material
-from drape.linsolve import FreeRestriction
-from drape.shell import KirchhoffLoveShell
+from drape.solvers.linear import FreeRestriction
+from drape.models.shell import KirchhoffLoveShell
 from meshes import cusick_annulus
 
 

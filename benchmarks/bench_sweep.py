@@ -34,7 +34,7 @@ TINY = ["mesh.n_radial=1", "mesh.n_circumferential=12", "solver.t_end=0.03"]
 def sweep(out: Path, workers: int, overrides: list[str]) -> tuple[float, list[dict]]:
     """Run the catalogue on ``workers`` worker processes into ``out``; return (wall, records)."""
     sys.path.insert(0, str(ROOT))
-    from drape import sweep as drape_sweep
+    from drape.batch import sweep as drape_sweep
 
     if out.exists():
         shutil.rmtree(out)

@@ -38,8 +38,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from drape.ensemble import ensemble_stats  # noqa: E402
-from drape.sweep import SweepRow, read_results, run_sweep  # noqa: E402
+from drape.batch.ensemble import ensemble_stats  # noqa: E402
+from drape.batch.sweep import SweepRow, read_results, run_sweep  # noqa: E402
 
 PER_DIRECTION = ["model.bending_friction=per_direction"]
 

@@ -22,7 +22,7 @@ Usage::
         --out out/folds_cotton
     python benchmarks/fold_preference.py CASE --tiny --out /tmp/folds   (the plumbing, in seconds)
 
-The runs go through :mod:`drape.sweep` (Dask, ``--workers``, ``--resume``); the table is
+The runs go through :mod:`drape.batch.sweep` (Dask, ``--workers``, ``--resume``); the table is
 printed and written to ``OUT/fold_preference.md``, and ``Π`` against the settled node count
 to ``OUT/fold_preference.png``.
 """
@@ -41,7 +41,7 @@ TINY = ["mesh.n_radial=2", "mesh.n_circumferential=24", "solver.t_end=0.05"]
 
 def rows_for(lobes, amplitude):
     """One sweep row per imposed fold count and friction setting."""
-    from drape.sweep import SweepRow
+    from drape.batch.sweep import SweepRow
 
     rows = []
     for n in lobes:
@@ -143,7 +143,7 @@ def main(argv=None) -> int:
     p.add_argument("--tiny", action="store_true", help="coarse and short: checks the plumbing only")
     args = p.parse_args(argv)
     sys.path.insert(0, str(ROOT))
-    from drape.sweep import SweepError, read_results, run_sweep
+    from drape.batch.sweep import SweepError, read_results, run_sweep
 
     try:
         lobes = [int(v) for v in args.lobes.split(",")]

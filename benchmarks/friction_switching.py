@@ -65,7 +65,7 @@ def main(argv=None) -> int:
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="case override")
     args = p.parse_args(argv)
     sys.path.insert(0, str(ROOT))
-    import drape.run as run
+    import drape.run.runner as run
     from constitutive.friction import FrictionState
 
     counter = SwitchCounter(FrictionState)

@@ -1,6 +1,6 @@
 """Where a drape run's Newton work goes: converged steps against failed (cut) attempts.
 
-Runs a case through the case runner with :func:`drape.newton.newton` wrapped by a timer, and
+Runs a case through the case runner with :func:`drape.solvers.newton.newton` wrapped by a timer, and
 prints the wall time of the whole run, of the Newton runs of steps that converged and of
 those that failed (the integrator then halves the step), each failed step's attempts (start,
 iterations, tangent, seconds), and how often the fallback start rescued a step::
@@ -34,9 +34,9 @@ def main(argv=None) -> int:
     p.add_argument("--out", default=None, help="output directory (default: a temporary one)")
     args = p.parse_args(argv)
     sys.path.insert(0, str(ROOT))
-    from drape import newmark
-    from drape import run as runner
-    from drape.case import load_case
+    from drape.solvers import newmark
+    from drape.run import runner
+    from drape.case.case import load_case
 
     calls = []
     newton = newmark.newton

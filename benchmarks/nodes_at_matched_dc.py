@@ -4,7 +4,7 @@ A drape at rest depends on the fabric's weight only through B/W and 2HB/W, so a 
 fabric of unknown KES values can be matched by its bending length alone. For each
 fabric of a scan set, this script
 
-1. reads every scan through ``drape.measure`` (the Cusick analysis of a simulated drape)
+1. reads every scan through ``drape.analyses.scan_measure`` (the Cusick analysis of a simulated drape)
    and takes the fabric's mean DC and the range of node counts over its specimens and
    captures (``benchmarks/scan_descriptors.py``);
 2. runs the KES-only Cusick case (``cases/cusick_kes.toml`` at the scans' 30 cm on 18 cm,
@@ -35,7 +35,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from drape.sweep import SweepRow, read_results, run_sweep  # noqa: E402
+from drape.batch.sweep import SweepRow, read_results, run_sweep  # noqa: E402
 from fold_causes import fabric_keys  # noqa: E402
 
 LAWS = {"tensor": [], "per_direction": ["model.bending_friction=per_direction"]}

@@ -1,6 +1,6 @@
 """Share of wall time the case runner itself takes (history row, fields, VTU/PVD writes, settling check).
 
-Runs a case through ``drape.run.run_case`` under cProfile and prints the time spent in the runner's
+Runs a case through ``drape.run.runner.run_case`` under cProfile and prints the time spent in the runner's
 per-step callback (``_Recorder.__call__``) against the whole integration.
 
     python benchmarks/runner_overhead.py [CASE.toml] [--set key=value ...]
@@ -16,8 +16,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from drape.case import load_case
-from drape.run import run_case
+from drape.case.case import load_case
+from drape.run.runner import run_case
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -9,7 +9,7 @@ specimen observed K = 1, 2, ... times in succession while it creeps). The Leeds 
 dataset comes in this form (D. Gong, N. Mao, H. Wang, "Bayesian Differentiable Physics for Cloth
 Digitalization", CVPR 2024); its scans are external data and are not part of this repository.
 
-Every scan goes through :func:`drape.measure.measure_surface` (30 cm specimen on an 18 cm
+Every scan goes through :func:`drape.analyses.scan_measure.measure_surface` (30 cm specimen on an 18 cm
 disc, centre from the flat top, the node detection of the simulated drape) and the script
 writes to DIR (default ``out/scan_descriptors``):
 
@@ -33,9 +33,9 @@ from pathlib import Path
 
 import numpy as np
 
-from drape.measure import DISC_DIAMETER, SPECIMEN_DIAMETER, measure_surface
-from drape.outline import N_HARMONICS
-from drape.scan import ScanError
+from drape.analyses.scan_measure import DISC_DIAMETER, SPECIMEN_DIAMETER, measure_surface
+from drape.analyses.outline import N_HARMONICS
+from drape.analyses.scan import ScanError
 
 KEY = re.compile(r"fabric(?P<fabric>\d+)_sample(?P<sample>\d+)"
                  r"(?:_(?P<series>capture|obs)(?P<n>\d+))?$")

@@ -2,7 +2,7 @@
 
 Runs a case through the ordinary runner and, for every converged step once the loads stopped
 changing, writes ``OUT/settling_trace.csv``: time, step, Newton iterations, the static
-out-of-balance over the weight (:mod:`drape.settling`), the kinetic energy, and the result the
+out-of-balance over the weight (:mod:`drape.run.settling`), the kinetic energy, and the result the
 run is for (Cusick: drape coefficient of the sampled surface and node count; strip: tip drop).
 Then it tells, from that trace, when the static-balance rule would have stopped the run for a
 few fractions, and when the former kinetic-energy rule (E_kin < c ρ_A g A L for N steps,
@@ -26,9 +26,9 @@ from pathlib import Path
 import numpy as np
 
 from constitutive.units import G0
-from drape import run as runner
-from drape.case import load_case
-from drape.recorder import Recorder
+from drape.run import runner
+from drape.case.case import load_case
+from drape.run.recorder import Recorder
 
 FIELDS = ["t", "step", "dt", "iterations", "out_of_balance", "kinetic", "result", "nodes"]
 
@@ -56,7 +56,7 @@ class TracingRecorder(Recorder):
 def _result(case, model, u):
     """(DC [%], nodes) of a Cusick specimen's sampled surface, or (tip drop [m], '') of a strip."""
     if case.mesh.kind == "cusick":
-        from drape.cusick import drape_analysis
+        from drape.analyses.drape_coefficient import drape_analysis
 
         pts, tri = model.deformed_surface(u)
         res = drape_analysis(pts, tri, 0.5 * case.mesh.specimen_diameter, 0.5 * case.mesh.disc_diameter)
@@ -88,7 +88,7 @@ def report(out: Path, fractions, kinetic_fractions, steps: int) -> None:
     rows = [{k: float(v) if v != "" else None for k, v in r.items()}
             for r in csv.DictReader(open(out / "settling_trace.csv"))]
     case = load_case(out / "case.resolved.toml")
-    from drape.build import build_material, build_mesh
+    from drape.case.build import build_material, build_mesh
 
     e_ref = _kinetic_reference(case, build_mesh(case), build_material(case).areal_mass)
     last = rows[-1]

@@ -670,7 +670,7 @@ def _parser():
     return p
 
 
-#: Exit code of an output file that cannot be written (drape.cli's table: 2 is bad input).
+#: Exit code of an output file that cannot be written (drape.run.cli's table: 2 is bad input).
 EXIT_IO = 4
 
 

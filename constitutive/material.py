@@ -160,7 +160,7 @@ class FabricMaterial:
         """Copy whose E11 and E22 are their tensile curves' tangents at ``tension`` [N/m].
 
         Directions without a curve (a stiffness given as a number) keep theirs. The tension
-        is the one the specimen carries (e.g. :func:`drape.cusick.skirt_tension`): a fabric's
+        is the one the specimen carries (e.g. :func:`drape.analyses.drape_coefficient.skirt_tension`): a fabric's
         curve is convex, so at a drape's load its tangent lies far below the stiffness that
         stores the test's energy (:mod:`constitutive.tensile`).
 

@@ -8,10 +8,10 @@ from scipy.integrate import cumulative_trapezoid, quad
 from scipy.linalg import lu_factor, lu_solve
 
 from constitutive.units import G0
-from drape.build import build
-from drape.case import CaseError, parse_case
-from drape.loads import Agitation
-from drape.newmark import initial_state, integrate
+from drape.case.build import build
+from drape.case.case import CaseError, parse_case
+from drape.case.loads import Agitation
+from drape.solvers.newmark import initial_state, integrate
 
 LENGTH, A_G, FREQ, CYCLES = 0.05, 0.02, 1.0, 3
 
@@ -119,9 +119,9 @@ def test_agitation_starts_when_the_other_loads_stop_and_ends_the_loading():
 def test_check_and_summary_state_the_shaking(tmp_path, capsys, monkeypatch, tiny_cusick):
     """``--check`` prints the burst, summary.json records it; the stroke is the support's
     peak-to-peak travel, here integrated twice from the acceleration on a fine grid."""
-    from drape import run as runner
-    from drape.case import load_case
-    from drape.run import run_case
+    from drape.run import runner
+    from drape.case.case import load_case
+    from drape.run.runner import run_case
 
     wool = Path(__file__).parents[1] / "cases" / "validation" / "wool_tropical.toml"
     monkeypatch.chdir(tmp_path)

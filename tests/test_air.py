@@ -1,12 +1,12 @@
-"""Still air's quadratic normal drag (drape.air.NormalDrag) on the large-rotation shell."""
+"""Still air's quadratic normal drag (drape.models.air.NormalDrag) on the large-rotation shell."""
 import numpy as np
 import pytest
 from skfem import MeshTri
 
-from drape.air import AIR_DENSITY
-from drape.argyris import interpolate
-from drape.newmark import initial_state, integrate
-from drape.shell import ElasticMaterial, KirchhoffLoveShell, ShellInputError
+from drape.models.air import AIR_DENSITY
+from drape.fem.argyris import interpolate
+from drape.solvers.newmark import initial_state, integrate
+from drape.models.shell import ElasticMaterial, KirchhoffLoveShell, ShellInputError
 
 CD = 1.2
 K = 0.5 * AIR_DENSITY * CD

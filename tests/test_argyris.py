@@ -5,7 +5,7 @@ import pytest
 from skfem import (Basis, ElementTriArgyris, ElementVector, InteriorFacetBasis,
                    MeshTri)
 
-from drape.argyris import ElementTriArgyrisLocal, facet_normals, interpolate
+from drape.fem.argyris import ElementTriArgyrisLocal, facet_normals, interpolate
 
 
 def unit_square(n, offset=0.0):

@@ -1,4 +1,4 @@
-"""Boundary-condition dofs (drape/boundary.py), validated by plate solves.
+"""Boundary-condition dofs (drape/fem/boundary.py), validated by plate solves.
 
 References are independent of the code: Timoshenko & Woinowsky-Krieger's
 coefficients for square plates, the closed-form clamped circular plate, and the
@@ -10,8 +10,8 @@ from skfem import (Basis, BilinearForm, ElementTriMorley, ElementVector, LinearF
                    MeshTri, condense, solve)
 from skfem.helpers import dd, ddot, trace
 
-from drape.argyris import ElementTriArgyrisLocal, interpolate
-from drape.boundary import (argyris_element, boundary_dofs, plate_constraints,
+from drape.fem.argyris import ElementTriArgyrisLocal, interpolate
+from drape.fem.boundary import (argyris_element, boundary_dofs, plate_constraints,
                             prescribed_values, rotation_dofs)
 from meshes import cusick_annulus, rectangle, strip
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from drape.case import (
+from drape.case.case import (
     Case,
     CaseError,
     apply_overrides,
@@ -189,7 +189,7 @@ def test_shipped_case_files_validate(path):
 def test_schema_help_documents_every_key():
     text = describe_schema()
     from constitutive.validation import model_class
-    from drape import case as c
+    from drape.case import case as c
 
     for section in (c.SolverSpec, c.ModelSpec, c.StopSpec, c.OutputSpec, c.Gravity, c.KesDrive):
         for name, field in section.model_fields.items():
@@ -211,7 +211,7 @@ def test_friction_tangent_choices_are_the_laws():
     import typing
 
     from constitutive.law import FRICTION_TANGENTS
-    from drape.case import ModelSpec
+    from drape.case.case import ModelSpec
 
     assert typing.get_args(ModelSpec.model_fields["friction_tangent"].annotation) == FRICTION_TANGENTS
 
@@ -221,6 +221,6 @@ def test_bending_friction_choices_are_the_sheet_laws():
     import typing
 
     from constitutive.sheet import FRICTION_FRAMES
-    from drape.case import ModelSpec
+    from drape.case.case import ModelSpec
 
     assert typing.get_args(ModelSpec.model_fields["bending_friction"].annotation) == FRICTION_FRAMES

@@ -14,11 +14,11 @@ import meshio
 import numpy as np
 import pytest
 
-from drape import run as runner
-from drape.case import load_case
-from drape.checkpoint import CHECKPOINT, read_checkpoint
-from drape.output import read_history, read_pvd
-from drape.termination import EXIT_TERMINATED
+from drape.run import runner
+from drape.case.case import load_case
+from drape.run.checkpoint import CHECKPOINT, read_checkpoint
+from drape.run.output import read_history, read_pvd
+from drape.run.termination import EXIT_TERMINATED
 
 ROOT = Path(__file__).resolve().parents[1]
 CANTILEVER = ROOT / "cases" / "cantilever.toml"
@@ -57,7 +57,7 @@ def uninterrupted(tmp_path_factory) -> Path:
 
 
 def start_run(out: Path, overrides: list[str] = SMALL) -> subprocess.Popen:
-    cmd = [sys.executable, "-m", "drape.run", str(CANTILEVER), "--out", str(out), "--quiet",
+    cmd = [sys.executable, "-m", "drape.run.runner", str(CANTILEVER), "--out", str(out), "--quiet",
            *sum((["--set", o] for o in overrides), [])]
     return subprocess.Popen(cmd, cwd=ROOT, env=env_with_worktree(), stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
@@ -82,7 +82,7 @@ def signal_after(proc: subprocess.Popen, out: Path, rows: int, signum) -> tuple[
 
 
 def resume(out: Path) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "drape.run", "--resume", str(out), "--quiet"],
+    return subprocess.run([sys.executable, "-m", "drape.run.runner", "--resume", str(out), "--quiet"],
                           cwd=ROOT, env=env_with_worktree(), capture_output=True, text=True,
                           timeout=300)
 

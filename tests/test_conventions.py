@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from drape.build import build
-from drape.case import parse_case
+from drape.case.build import build
+from drape.case.case import parse_case
 
 C = 1e-3          # twist w = C x y [1/m]: κ12 = w_,xy = C, small enough for the linear regime
 L = 0.01

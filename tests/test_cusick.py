@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from drape.perturbation import FoldPerturbation, PerturbationError, perturbation_dofs
+from drape.models.perturbation import FoldPerturbation, PerturbationError, perturbation_dofs
 
 R, RD = 0.15, 0.09
 
@@ -32,7 +32,7 @@ def test_same_seed_same_field_other_seed_other_field():
 
 @pytest.mark.parametrize("n", [3, 7, 10])
 def test_lobed_field_has_n_lobes_and_amplitude_on_hem(n):
-    from drape.cusick import find_nodes
+    from drape.analyses.drape_coefficient import find_nodes
 
     p = FoldPerturbation(RD, R, kind="lobed", n_lobes=n, amplitude=2e-3, seed=11)
     phi, x = ring_points(R)
@@ -87,8 +87,8 @@ def test_dofs_respect_the_disc_clamp_and_reproduce_the_field():
     from skfem.element import ElementVector
 
     import meshes
-    from drape.argyris import interpolate  # noqa: F401  (frame-aware interpolation used inside)
-    from drape.boundary import argyris_element, clamped_dofs
+    from drape.fem.argyris import interpolate  # noqa: F401  (frame-aware interpolation used inside)
+    from drape.fem.boundary import argyris_element, clamped_dofs
 
     mesh = meshes.cusick_annulus(0.30, 0.18, n_radial=3, n_circumferential=48)
     elem = argyris_element(mesh, {"disc": "clamped"})
@@ -109,7 +109,7 @@ def test_force_perturbation_load_vector_does_the_analytic_work():
     with unit amplitude, is int f_z w dA = A rho_A g pi int_rd^R s^2 rho drho for one lobe
     cos(k phi + phi0) (int cos^2 = pi), with s = xi^2, xi = (rho - r_d)/L:
     int xi^4 rho drho = L (r_d/5 + L/6)."""
-    from drape.shell import ElasticMaterial, KirchhoffLoveShell
+    from drape.models.shell import ElasticMaterial, KirchhoffLoveShell
 
     import meshes
 
@@ -142,7 +142,7 @@ def test_uniform_surface_load_equals_gravity():
     """A uniform traction -rho_A g e_z through ``surface_load`` is the self-weight vector."""
     from skfem import MeshTri
 
-    from drape.shell import ElasticMaterial, KirchhoffLoveShell
+    from drape.models.shell import ElasticMaterial, KirchhoffLoveShell
 
     mesh = MeshTri.init_tensor(np.linspace(0, 0.1, 4), np.linspace(0, 0.05, 3))
     mesh = mesh.with_boundaries({"clamped": lambda x: x[0] < 1e-9})
@@ -161,8 +161,8 @@ def test_uniform_surface_load_equals_gravity():
 def test_force_target_starts_at_rest_with_a_transient_load(tmp_path):
     """target = "force": no initial displacement or velocity; the shell carries the load and
     the settling rule waits until the load is gone (LoadSpec.end_time)."""
-    from drape.case import parse_case
-    from drape.run import build, initial_fields
+    from drape.case.case import parse_case
+    from drape.run.runner import build, initial_fields
 
     case = parse_case({
         "case": {"name": "cusick_force", "analysis": "cusick"},
@@ -184,7 +184,7 @@ def test_force_target_starts_at_rest_with_a_transient_load(tmp_path):
     # space) against an independent quadrature of ρ_A g w(x) h(t) x² over the mesh triangles
     from skfem import Basis, ElementTriP1
 
-    from drape.build import fold_perturbation
+    from drape.case.build import fold_perturbation
 
     zero = lambda x: np.zeros(x.shape[1:])      # noqa: E731
     psi = model.interpolate(
@@ -225,7 +225,7 @@ def annular_plate_deflection(r, q, D, a=R, b=RD, nu=0.0):
 
 
 def stiff_case(tmp_path, k1):
-    from drape.case import parse_case
+    from drape.case.case import parse_case
 
     return parse_case({
         "case": {"name": "cusick_stiff", "analysis": "cusick"},
@@ -243,7 +243,7 @@ def test_stiff_fabric_hangs_like_the_annular_plate_and_keeps_dc_near_one(tmp_pat
     """Bending length (k1/(rho_A g))^(1/3) = 18 cm >> 6 cm overhang: small deflection, so the
     settled hem deflection equals the closed-form plate value (isotropic, nu = 0: the shell's
     default twist rigidity sqrt(k1 k1) is the nu = 0 plate), and DC stays ~100 %."""
-    from drape.run import run_case
+    from drape.run.runner import run_case
 
     k1 = 1e-2
     case = stiff_case(tmp_path, k1)
@@ -252,7 +252,7 @@ def test_stiff_fabric_hangs_like_the_annular_plate_and_keeps_dc_near_one(tmp_pat
     import meshio
 
     from constitutive.material import load_material
-    from drape.output import read_pvd
+    from drape.run.output import read_pvd
 
     last = read_pvd(tmp_path / "cusick_stiff.pvd")[-1][1]
     m = meshio.read(last)

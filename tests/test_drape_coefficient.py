@@ -7,7 +7,7 @@ be computed independently (polygon / quadrature formulas), not through shapely.
 import numpy as np
 import pytest
 
-from drape.cusick import (CusickError, boundary_radius, drape_analysis, drape_coefficient,
+from drape.analyses.drape_coefficient import (CusickError, boundary_radius, drape_analysis, drape_coefficient,
                           find_nodes, plot_top_view, shadow_polygon)
 
 R, RD = 0.15, 0.09  # 30 cm specimen on an 18 cm disc
@@ -206,7 +206,7 @@ def test_top_view_png(tmp_path):
 def test_cusick_post_on_a_cusick_mesh(tmp_path):
     """The runner hook: reference mesh + nodal displacement (either layout) -> summary + PNG."""
     import meshes
-    from drape.cusick import cusick_post
+    from drape.analyses.drape_coefficient import cusick_post
 
     mesh = meshes.cusick_annulus(0.30, 0.18, n_radial=3, n_circumferential=96)
     x, y = mesh.p

@@ -14,10 +14,10 @@ import pytest
 from scipy.integrate import solve_bvp
 from skfem import MeshTri
 
-from drape.newmark import quasi_static
-from drape.peirce import shell_peirce_summary
+from drape.solvers.newmark import quasi_static
+from drape.analyses.bending_length import shell_peirce_summary
 from constitutive.units import G0
-from drape.shell import ElasticMaterial, KirchhoffLoveShell
+from drape.models.shell import ElasticMaterial, KirchhoffLoveShell
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 
@@ -70,7 +70,7 @@ def test_peirce_formula_recovers_bending_rigidity_from_elastica(alpha):
     """Peirce's c = l (cos(θ/2)/(8 tan θ))^(1/3) applied to the exact elastica chord
     angle gives G = W c³ within 6 % of B for chord angles up to ~42° (the formula is
     Peirce's empirical fit; at α = 8 it reads c = 0.509 l against the exact l/2)."""
-    from drape.peirce import bending_length, flexural_rigidity
+    from drape.analyses.bending_length import bending_length, flexural_rigidity
     L, B = 1.0, 1.0
     _, chord = elastica_tip(alpha)
     c = bending_length(L, np.deg2rad(chord))
@@ -85,8 +85,8 @@ def test_viscous_cantilever_settles_by_static_balance_on_the_elastica(tmp_path):
     elements along give the same tip drop to 1e-4 relative); steps grow to 0.5 s once the
     weight is on."""
     from constitutive.material import load_material
-    from drape import run as runner
-    from drape.case import load_case
+    from drape.run import runner
+    from drape.case.case import load_case
 
     fabric = load_material("fabric1")
     B, w = fabric.warp.k1, fabric.areal_mass * G0

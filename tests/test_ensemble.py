@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from drape import sweep
-from drape.case import load_case
-from drape.ensemble import SEED_KEY, ensemble_stats, seed_rows, seeded
+from drape.batch import sweep
+from drape.case.case import load_case
+from drape.batch.ensemble import SEED_KEY, ensemble_stats, seed_rows, seeded
 
 ROOT = Path(__file__).resolve().parents[1]
 CUSICK = ROOT / "cases" / "cusick_kes.toml"

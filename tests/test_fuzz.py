@@ -17,10 +17,10 @@ import tomli_w
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from drape import cli
-from drape import run as runner
-from drape import sweep
-from drape.case import Case
+from drape.run import cli
+from drape.run import runner
+from drape.batch import sweep
+from drape.case.case import Case
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Base cases, made small so that a value that builds builds in milliseconds; the generated

@@ -11,8 +11,8 @@ from scipy.integrate import quad
 
 from constitutive.kes_sheet import KesFabricSpec, read_sheet_value
 from constitutive.material import MaterialError, load_material
-from drape.build import build_material
-from drape.case import CaseError, load_case
+from drape.case.build import build_material
+from drape.case.case import CaseError, load_case
 
 ROOT = Path(__file__).resolve().parents[1]
 CUSICK_KES = ROOT / "cases" / "cusick_kes.toml"
@@ -142,9 +142,9 @@ def test_summary_json_says_which_membrane_values_came_from_the_sheet(tmp_path, t
     law numerically at the strain where it carries that tension."""
     from scipy.optimize import brentq
 
-    from drape.cusick import skirt_tension
+    from drape.analyses.drape_coefficient import skirt_tension
 
-    from drape.run import run_case
+    from drape.run.runner import run_case
 
     case = load_case(CUSICK_KES, [
         "material.kes.G=0.6", "material.kes.EMT_warp=4", "material.kes.LT_warp=0.65",
@@ -193,7 +193,7 @@ def test_a_sheets_bias_rigidity_is_the_plates_cylindrical_bending_rigidity(theta
     B(θ) = B₁cos⁴θ + B₂sin⁴θ + 2 D_t sin²θ cos²θ; at 45° it is the sheet's B_bias. Argyris
     elements hold the quadratic exactly (no friction: 2HB = 0, so k1 = B)."""
     from constitutive.units import to_si
-    from drape.plate import KirchhoffPlate
+    from drape.models.plate import KirchhoffPlate
     from meshes import rectangle
 
     case = load_case(CUSICK_KES, [f"material.kes.B_bias={B_bias}", "material.kes.HB2_warp=0",

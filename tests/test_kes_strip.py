@@ -21,8 +21,8 @@ from constitutive.friction import FrictionParams
 from constitutive.kes import kes_profile, run_kes
 from constitutive.law import BendingLaw
 from constitutive.material import FabricMaterial
-from drape.newmark import integrate, quasi_static
-from drape.plate import KirchhoffPlate, pure_bending_rotations
+from drape.solvers.newmark import integrate, quasi_static
+from drape.models.plate import KirchhoffPlate, pure_bending_rotations
 
 L, W = 0.01, 0.01          # m: the KES-FB clamp gap is 1 cm
 DT = 0.05                  # s: profile sampling (turning points are added by kes_profile)
@@ -88,7 +88,7 @@ def test_quasi_static_kes_strip_rate_free_law():
 def test_unconvergeable_kes_run_stops_with_clear_error_and_commits_nothing():
     """One-second steps through friction with 2 Newton iterations allowed cannot converge:
     a ConvergenceError names t, the smallest dt tried and the norms; no state was committed."""
-    from drape.newmark import ConvergenceError
+    from drape.solvers.newmark import ConvergenceError
 
     _, mat = fabric(d=2e-6)
     plate = KirchhoffPlate(strip(4, 2), mat, gravity=0.0, translational_inertia=False,

@@ -1,4 +1,4 @@
-"""A measured drape read like a simulated one (drape.measure, drape.scan, drape.outline).
+"""A measured drape read like a simulated one (drape.analyses.scan_measure, drape.analyses.scan, drape.analyses.outline).
 
 Synthetic scans: a disc top (a polar fan, its centre offset from the origin) and a skirt whose
 hem follows ``r(phi) = r0 + A cos(n phi)`` while hanging below the disc, so that the shadow is
@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 import shapely
 
-from drape.measure import length_m, main, measure_scan, measure_surface
-from drape.outline import outline_harmonics
-from drape.scan import ScanError, find_disc_top
+from drape.analyses.scan_measure import length_m, main, measure_scan, measure_surface
+from drape.analyses.outline import outline_harmonics
+from drape.analyses.scan import ScanError, find_disc_top
 
 R, RD = 0.15, 0.09  # 30 cm specimen on an 18 cm disc
 R0, A, N = 0.125, 0.015, 7  # hem: r0 + A cos(n phi), folds 3 cm deep
@@ -253,9 +253,9 @@ def test_a_simulated_drape_read_from_its_vtu_gives_the_runs_own_summary(tmp_path
     shape with folds in a few seconds.  Its last VTU (reference mesh and displacement) measured
     as a scan gives the summary's DC (of the vertex triangles exactly, of the sampled surface
     within 0.5 points), its node count and, about equally, its harmonics below the folds'."""
-    from drape.case import load_case
-    from drape.output import read_pvd
-    from drape.run import run_case
+    from drape.case.case import load_case
+    from drape.run.output import read_pvd
+    from drape.run.runner import run_case
 
     overrides = ["mesh.n_radial=2", "mesh.n_circumferential=36", "solver.t_end=1.0",
                  "solver.dt=0.1", "load.gravity.ramp_time=0.5", "load.perturbation.duration=0.5",

@@ -2,9 +2,9 @@
 import numpy as np
 import pytest
 
-from drape.build import build
-from drape.case import parse_case
-from drape.model import StructuralModel
+from drape.case.build import build
+from drape.case.case import parse_case
+from drape.models.protocol import StructuralModel
 
 
 def _strip(kinematics):

@@ -1,4 +1,4 @@
-"""Verification of the model-agnostic integrator drape/newmark.py.
+"""Verification of the model-agnostic integrator drape/solvers/newmark.py.
 
 References: the discrete energy identity of the average-acceleration rule (exact for
 linear models), the closed-form harmonic oscillator (second-order accuracy), HHT-α's
@@ -12,9 +12,9 @@ import skfem
 
 from constitutive.law import BendingLaw
 from constitutive.material import FabricMaterial
-from drape.linsolve import DirectSolver, pardiso_available
-from drape.model import Evaluation
-from drape.newmark import (
+from drape.solvers.linear import DirectSolver, pardiso_available
+from drape.models.protocol import Evaluation
+from drape.solvers.newmark import (
     ConvergenceError,
     IntegratorInputError,
     NewmarkState,
@@ -23,7 +23,7 @@ from drape.newmark import (
     newmark_step,
     quasi_static,
 )
-from drape.plate import KirchhoffPlate
+from drape.models.plate import KirchhoffPlate
 
 B, RHO, L, W = 2.0e-5, 0.2, 0.1, 0.02
 OMEGA1 = 1.8751**2 / L**2 * np.sqrt(B / RHO)
@@ -207,7 +207,7 @@ def test_auto_predictor_falls_back_only_to_a_start_near_balance():
     residual is at most 100 times u₁ = u₀'s. Swinging through u = 0 (v = 6, Δt = 0.01) the
     second start is far closer, released from u = 1 at rest (Δt = 0.2) comparable: both are
     tried. Released at Δt = 2 it overshoots to u ≈ −100, and is not tried."""
-    from drape.newmark import FALLBACK_RATIO, _Restrictions, _StepProblem, _newmark_coefficients
+    from drape.solvers.newmark import FALLBACK_RATIO, _Restrictions, _StepProblem, _newmark_coefficients
 
     tried, ratio = {}, {}
     for label, (u, v, dt) in {"swing": (0.0, 6.0, 0.01), "release": (1.0, 0.0, 0.2),
@@ -247,8 +247,8 @@ def test_a_step_converged_only_by_a_fallback_is_marked_rescued():
     stick tangent is, and the run profile counts it."""
     from types import SimpleNamespace
 
-    from drape.newton import NewtonPolicy
-    from drape.profile import RunProfile
+    from drape.solvers.newton import NewtonPolicy
+    from drape.run.run_profile import RunProfile
 
     state = NewmarkState(0.0, np.array([0.3]), np.array([0.0]), np.array([-4 * np.pi**2 * 0.3]))
     policy = NewtonPolicy(tangents=("consistent", "stick"))
@@ -268,7 +268,7 @@ def test_cut_before_fallbacks_and_every_attempt_counted():
     """A step whose attempts from both starts fail is cut, not retried with the stick tangent
     (the cut is the cheaper remedy while one is left), and the converged half step carries
     the failed attempts' counts: the steps' factorizations add up to the solver's own count."""
-    from drape.newton import NewtonPolicy
+    from drape.solvers.newton import NewtonPolicy
 
     failed_calls = []
 
@@ -299,7 +299,7 @@ def test_symmetric_viscous_tangent_gives_the_same_path():
     against 78 (bounded here by 1.5 times)."""
     from skfem import MeshTri
 
-    from drape.shell import KirchhoffLoveShell
+    from drape.models.shell import KirchhoffLoveShell
 
     law = BendingLaw(k1=2e-6, d=2e-6)
     mat = FabricMaterial("viscous", 0.2, None, law, law, twist_rigidity=2e-6)
@@ -327,8 +327,8 @@ def test_direct_solver_on_a_shell_tangent_and_an_indefinite_matrix(backend):
     import scipy.sparse.linalg as spla
     from skfem import MeshTri
 
-    from drape.linsolve import FreeRestriction
-    from drape.shell import ElasticMaterial, KirchhoffLoveShell
+    from drape.solvers.linear import FreeRestriction
+    from drape.models.shell import ElasticMaterial, KirchhoffLoveShell
 
     mesh = MeshTri.init_tensor(np.linspace(0, 0.1, 7), np.linspace(0, 0.05, 4))
     mesh = mesh.with_boundaries({"clamped": lambda x: x[0] < 1e-9})
@@ -362,7 +362,7 @@ def test_pardiso_factorises_by_cholesky_until_a_matrix_is_indefinite():
     RETRY_AFTER; then Cholesky is tried again. Every solve matches SciPy's spsolve."""
     import scipy.sparse.linalg as spla
 
-    from drape.linsolve import _PardisoSymmetric
+    from drape.solvers.linear import _PardisoSymmetric
 
     n = 400
     lap = sp.diags([-np.ones(n - 1), 2.5 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1], format="csr")

@@ -1,4 +1,4 @@
-"""drape.newton: convergence rate, damping, tangent fallback, failure reports, bad input.
+"""drape.solvers.newton: convergence rate, damping, tangent fallback, failure reports, bad input.
 
 References: the exact roots of small algebraic systems; Newton's quadratic convergence
 (e_{k+1} ≤ C e_k²) near a simple root; the classical divergence of undamped Newton on arctan
@@ -10,7 +10,7 @@ import scipy.sparse as sp
 
 from constitutive.friction import FrictionParams
 from constitutive.law import BendingLaw
-from drape.newton import NewtonPolicy, NewtonTolerances, newton
+from drape.solvers.newton import NewtonPolicy, NewtonTolerances, newton
 
 
 class Problem:

@@ -11,7 +11,8 @@ import pytest
 import pyvista
 from skfem import MeshTri
 
-from drape.output import OutputSchedule, OutputWriter, read_pvd, split_fields
+from drape.models.fields import split_fields
+from drape.run.output import OutputSchedule, OutputWriter, read_pvd
 
 
 @pytest.fixture

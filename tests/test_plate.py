@@ -1,4 +1,4 @@
-"""Verification of the small-deflection Kirchhoff plate (drape/plate.py) against independent references.
+"""Verification of the small-deflection Kirchhoff plate (drape/models/plate.py) against independent references.
 
 References: Euler–Bernoulli beam (tip qL⁴/(8B), first frequency 1.8751²/L² √(B/ρ_A)),
 clamped square plate centre deflection 0.00126 q a⁴/D (Timoshenko & Woinowsky-Krieger,
@@ -16,9 +16,9 @@ from scipy.optimize import brentq
 from constitutive.friction import FrictionParams, closed_form_from_rest
 from constitutive.law import BendingLaw
 from constitutive.material import FabricMaterial
-from drape.newmark import initial_state, integrate, quasi_static
+from drape.solvers.newmark import initial_state, integrate, quasi_static
 from constitutive.units import G0
-from drape.plate import KirchhoffPlate, PlateInputError, pure_bending_rotations
+from drape.models.plate import KirchhoffPlate, PlateInputError, pure_bending_rotations
 
 B = 2.0e-5        # N·m, bending rigidity (a mid-weight fabric)
 RHO = 0.2         # kg/m²
@@ -167,8 +167,8 @@ def test_air_drag_is_mass_damping_over_the_areal_mass():
     """``[model.damping] air_drag = c`` (a drag c v per unit area) gives mode 1 of a cantilever
     the damping ratio ζ = c / (2 ρ_A ω1) + d ω1 / (2 k1) (drag plus the law's viscosity), within
     1 %, through the case path (ω1 of the Euler–Bernoulli beam)."""
-    from drape.build import build
-    from drape.case import parse_case
+    from drape.case.build import build
+    from drape.case.case import parse_case
 
     c, length = 0.3, 0.1      # long: the drag term dominates the law's
     case = parse_case({

@@ -11,8 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from drape import report, sweep
-from drape.output import OutputWriter
+from drape.batch import report
+
+from drape.batch import sweep
+from drape.run.output import OutputWriter
 
 ROOT = Path(__file__).resolve().parents[1]
 CUSICK = ROOT / "cases" / "cusick_kes.toml"

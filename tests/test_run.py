@@ -14,12 +14,12 @@ import pytest
 import pyvista
 import scipy.sparse as sp
 
-from drape.model import Evaluation
+from drape.models.protocol import Evaluation
 from drape import analyses
-from drape import run as runner
-from drape.settling import out_of_balance
-from drape.case import CaseError, apply_overrides, load_case, parse_case
-from drape.output import read_pvd
+from drape.run import runner
+from drape.run.settling import out_of_balance
+from drape.case.case import CaseError, apply_overrides, load_case, parse_case
+from drape.run.output import read_pvd
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases"
@@ -141,7 +141,7 @@ def test_failed_run_keeps_every_converged_step_with_a_readable_pvd(tmp_path):
 def test_inspect_draws_the_stopped_run_and_its_history(tmp_path, capsys):
     from PIL import Image
 
-    from drape import inspect
+    from drape.run import pictures as inspect
 
     case = small_case(**{"solver.max_cuts": 0})
     runner.run_case(case, tmp_path, quiet=True, parts=fake_parts(case, fail_after=0.025))
@@ -190,7 +190,7 @@ def test_check_builds_without_running(tmp_path, capsys, monkeypatch):
     assert not any(tmp_path.iterdir())                 # nothing written
     assert runner.main([str(CASES / "validation" / "wool_tropical.toml"), "--check"]) == 0
     from constitutive.tensile import DEFAULT_TENSILE
-    from drape.cusick import skirt_tension
+    from drape.analyses.drape_coefficient import skirt_tension
 
     tension = skirt_tension(0.1629 * 9.80665, 0.127, 0.0635)    # the wool's W, its 25.4/12.7 cm
     E = DEFAULT_TENSILE.tangent(tension)
@@ -257,7 +257,7 @@ def test_the_kinetic_energy_keys_are_rejected_naming_the_new_key():
 
 
 def test_a_quasi_static_run_takes_no_explicit_settling_rule():
-    from drape.settling import Settling
+    from drape.run.settling import Settling
 
     assert not Settling(small_case(**{"solver.quasi_static": True})).active     # in balance anyway
     with pytest.raises(CaseError, match=r"stop\.out_of_balance needs a dynamic run"):

@@ -13,11 +13,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from drape import cli
-from drape import run as runner
-from drape.checkpoint import CHECKPOINT
-from drape.lock import folder_lock
-from drape.termination import Terminated
+from drape.run import cli
+from drape.run import runner
+from drape.run.checkpoint import CHECKPOINT
+from drape.run.lock import folder_lock
+from drape.run.termination import Terminated
 
 ROOT = Path(__file__).resolve().parents[1]
 CANTILEVER = ROOT / "cases" / "cantilever.toml"
@@ -62,7 +62,7 @@ def stopped_copy(finished: Path, tmp_path: Path) -> Path:
 # --------------------------------------------------------------------------- one writer per folder
 def test_a_second_run_into_a_folder_in_use_is_refused_and_mixes_nothing(tmp_path, capsys):
     out = tmp_path / "D"
-    first = subprocess.Popen([sys.executable, "-m", "drape.run", str(CANTILEVER), "--out", str(out),
+    first = subprocess.Popen([sys.executable, "-m", "drape.run.runner", str(CANTILEVER), "--out", str(out),
                               "--quiet", "--set", "mesh.nx=2", "--set", "mesh.ny=1",
                               "--set", "solver.t_end=0.4"],
                              cwd=ROOT, env=env_with_worktree(), stderr=subprocess.PIPE, text=True)
@@ -146,7 +146,7 @@ def test_a_read_only_output_folder_is_an_io_error(tmp_path, capsys, monkeypatch)
 
 def test_a_full_disk_during_the_run_is_an_io_error_with_the_reason_on_disk(tmp_path, capsys,
                                                                             monkeypatch):
-    import drape.checkpoint
+    import drape.run.checkpoint
 
     savez, calls = np.savez, []
 
@@ -156,7 +156,7 @@ def test_a_full_disk_during_the_run_is_an_io_error_with_the_reason_on_disk(tmp_p
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
         return savez(*args, **kwargs)
 
-    monkeypatch.setattr(drape.checkpoint.np, "savez", full)
+    monkeypatch.setattr(drape.run.checkpoint.np, "savez", full)
     out = tmp_path / "o"
     assert runner.main([str(CANTILEVER), "--out", str(out), "--quiet", *TINY]) == cli.EXIT_IO
     assert one_error(capsys) == "error: No space left on device"
@@ -288,14 +288,14 @@ def test_the_readme_has_the_exit_code_table():
 
 
 def test_a_cold_kernel_cache_is_announced(capsys, monkeypatch):
-    import drape.compiled
+    import drape.fem.compiled
 
-    monkeypatch.setattr(drape.compiled, "cache_is_cold", lambda: True)
+    monkeypatch.setattr(drape.fem.compiled, "cache_is_cold", lambda: True)
     assert runner.main([str(CANTILEVER), "--check", *TINY]) == 0
     assert capsys.readouterr().err.startswith("compiling the shell's kernels (first run only")
     assert runner.main([str(CANTILEVER), "--check", "--quiet", *TINY]) == 0
     assert capsys.readouterr().err == ""
-    monkeypatch.setattr(drape.compiled, "cache_is_cold", lambda: False)
+    monkeypatch.setattr(drape.fem.compiled, "cache_is_cold", lambda: False)
     assert runner.main([str(CANTILEVER), "--check", *TINY]) == 0
     assert capsys.readouterr().err == ""
 
@@ -304,7 +304,7 @@ def test_a_signal_during_the_build_in_a_real_process_leaves_a_summary(tmp_path):
     """SIGTERM at once after start: whether it lands in the imports, the case or the build, the
     process ends 143 with one line; once the runner holds the folder, with a summary."""
     out = tmp_path / "o"
-    proc = subprocess.Popen([sys.executable, "-m", "drape.run", str(CANTILEVER), "--out", str(out),
+    proc = subprocess.Popen([sys.executable, "-m", "drape.run.runner", str(CANTILEVER), "--out", str(out),
                              "--quiet", *TINY, "--set", "solver.t_end=1"], cwd=ROOT,
                             env=env_with_worktree(),
                             stderr=subprocess.PIPE, text=True)

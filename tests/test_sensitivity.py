@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from drape import sensitivity as sens
-from drape.sweep import read_results
+from drape.batch import sensitivity as sens
+from drape.batch.sweep import read_results
 
 ROOT = Path(__file__).resolve().parents[1]
 WOOL = ROOT / "cases" / "validation" / "wool_tropical.toml"
@@ -30,7 +30,7 @@ FACTORS = [
 
 
 def fake_results(folder: Path, rows: list[tuple]) -> None:
-    """A results.csv as drape.sweep writes it, with only the columns the study reads."""
+    """A results.csv as drape.batch.sweep writes it, with only the columns the study reads."""
     folder.mkdir(parents=True, exist_ok=True)
     with open(folder / "results.csv", "w", newline="") as fh:
         w = csv.writer(fh)
@@ -128,7 +128,7 @@ def test_tornado_bars_are_the_changes_sorted_by_swing_with_the_measured_line(tmp
 
 
 def test_bench_levels_are_valid_cases_of_the_wool(benchmark_script):
-    from drape.case import load_case
+    from drape.case.case import load_case
 
     bench = benchmark_script("bench_sensitivity")
     case = load_case(WOOL)

@@ -177,8 +177,8 @@ def test_a_bias_strip_hangs_like_a_warp_strip_with_tensor_friction(frame, same):
     from skfem import MeshTri
 
     from constitutive.material import load_material
-    from drape.newmark import quasi_static
-    from drape.shell import KirchhoffLoveShell
+    from drape.solvers.newmark import quasi_static
+    from drape.models.shell import KirchhoffLoveShell
 
     mat = load_material("fabric1")
     law = BendingLaw(k1=mat.warp.k1, friction=mat.warp.friction)

@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 from skfem import MeshTri
 
-from drape.newmark import quasi_static
+from drape.solvers.newmark import quasi_static
 from constitutive.conventions import CURVATURE_SIGN
-from drape.shell import ElasticMaterial, KirchhoffLoveShell
+from drape.models.shell import ElasticMaterial, KirchhoffLoveShell
 
 
 def _strip(L, b, nx, ny=1):
@@ -83,10 +83,10 @@ def test_sze_cantilever_under_end_shear(strain_degree, stabilization):
 
 def test_small_load_limit_agrees_with_small_deflection_plate():
     """Same mesh, element, fabric (cubic + friction law) and a tiny self-weight:
-    tip deflection and cell curvatures agree with drape.plate.KirchhoffPlate to 1e-3
+    tip deflection and cell curvatures agree with drape.models.plate.KirchhoffPlate to 1e-3
     (geometric nonlinearity is O((w/L)²) ~ 5e-5 here)."""
     from constitutive.friction import FrictionParams
-    from drape.plate import KirchhoffPlate, demo_material
+    from drape.models.plate import KirchhoffPlate, demo_material
     L, b = 0.05, 0.02
     mesh = _strip(L, b, 6, 2)
     mat = demo_material(B=1e-5, areal_mass=0.2, k3=1e-8,
@@ -110,7 +110,7 @@ def test_small_load_limit_agrees_with_small_deflection_plate():
 
 def test_bad_input_names_the_parameter():
     """Errors name the offending key and the rule."""
-    from drape.shell import ShellInputError
+    from drape.models.shell import ShellInputError
     mesh = _strip(1.0, 0.1, 2)
     with pytest.raises(ShellInputError, match="clamped boundary 'wall'"):
         KirchhoffLoveShell(mesh, ElasticMaterial(1.0, 1.0), clamped=("wall",))
@@ -124,9 +124,9 @@ def test_bad_input_names_the_parameter():
 
 def test_undamped_swing_conserves_energy():
     """Strip released flat under full gravity, no damping or friction, trapezoidal
-    Newmark (drape.newmark.integrate): kinetic + strain + gravity potential stays
+    Newmark (drape.solvers.newmark.integrate): kinetic + strain + gravity potential stays
     at its initial value 0 within 0.5 % of the strain energy at the bottom of the swing."""
-    from drape.newmark import integrate
+    from drape.solvers.newmark import integrate
     L, b, B = 1.0, 0.2, 1.0
     shell = KirchhoffLoveShell(_strip(L, b, 4), ElasticMaterial(bending=B, membrane=1e4,
                                                              areal_mass=8.0 / 9.80665))
@@ -173,7 +173,7 @@ def test_energy_balance_with_friction_viscosity_and_damping():
     kinetic + strain + gravity potential + friction work + damping work (Rayleigh and
     the law's d κ̇) stays at 0 within 1 % of the potential released."""
     from constitutive.material import load_material
-    from drape.newmark import integrate
+    from drape.solvers.newmark import integrate
     from meshes import strip
     shell = KirchhoffLoveShell(strip(0.0163, 0.025, 3, 1), load_material("fabric1"),
                                load_boundary="free_end", rayleigh=(5.0, 0.0))
@@ -189,7 +189,7 @@ def test_small_amplitude_vibration_frequency():
     """Free vibration from a small tip-loaded shape (no gravity, no damping): the period
     of the tip motion equals the Euler–Bernoulli cantilever's 2π/ω1,
     ω1 = 1.8751² / L² √(B/ρ_A) (docs/theory.md §5), within 1 % (Newmark period error ~0.1 %)."""
-    from drape.newmark import NewmarkState, integrate
+    from drape.solvers.newmark import NewmarkState, integrate
     L, b, B, rho = 1.0, 0.1, 1.0, 1.0
     shell = KirchhoffLoveShell(_strip(L, b, 8), ElasticMaterial(bending=B, membrane=1e6,
                                                              areal_mass=rho),
@@ -213,7 +213,7 @@ def test_deformed_surface_shadow_resolves_curved_triangles():
     """Unit square (2 × 2 cells) stretched by u_x = a x y (1 − y): its exact area is
     1 + a/6. The vertex triangles see y (1 − y) only at y = 0, ½, 1 (area 1 + a/8); the
     surface sampled on 16 sub-triangles per cell (refine = 2) must be ten times closer."""
-    from drape.cusick import shadow_polygon
+    from drape.analyses.drape_coefficient import shadow_polygon
     a = 0.6
     mesh = MeshTri.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 1, 3))
     shell = KirchhoffLoveShell(mesh.with_boundaries({"clamped": lambda x: x[0] < 1e-9}),

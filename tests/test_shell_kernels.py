@@ -10,8 +10,8 @@ from skfem.refdom import RefTri
 
 from constitutive.friction import FrictionParams
 from constitutive.law import BendingLaw
-from drape.shell import ElasticMaterial, KirchhoffLoveShell, ShellInputError
-from drape.shell_kernels import element_colours
+from drape.models.shell import ElasticMaterial, KirchhoffLoveShell, ShellInputError
+from drape.fem.shell_kernels import element_colours
 
 
 class _Viscous:
@@ -186,7 +186,7 @@ def test_elastic_tangent_is_symmetric(viscous_shell):
 
 def test_kernels_match_vectorised_first_variations(viscous_shell):
     """Force, viscous and inertia matrices, strain, curvature and curvature rate against the
-    einsum evaluation of :class:`drape.kinematics.KLPoint` (relative 1e-12)."""
+    einsum evaluation of :class:`drape.fem.kinematics.KLPoint` (relative 1e-12)."""
     shell = viscous_shell
     u, rng = _large_rotation_state(shell, seed=3, scale=0.3)
     v = rng.standard_normal(shell.ndofs)

@@ -7,7 +7,7 @@ from skfem import MeshTri
 from constitutive.friction import FrictionParams
 from constitutive.law import BendingLaw
 from constitutive.conventions import CURVATURE_SIGN
-from drape.shell import KirchhoffLoveShell
+from drape.models.shell import KirchhoffLoveShell
 
 
 class _Material:

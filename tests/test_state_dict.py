@@ -9,9 +9,9 @@ import pytest
 
 from constitutive.friction import FrictionParams, FrictionState
 from constitutive.law import BendingLaw
-from drape import newmark
-from drape.build import build
-from drape.case import load_case
+from drape.solvers import newmark
+from drape.case.build import build
+from drape.case.case import load_case
 
 ROOT = Path(__file__).resolve().parents[1]
 CANTILEVER = ROOT / "cases" / "cantilever.toml"

@@ -12,9 +12,9 @@ from pathlib import Path
 
 import pytest
 
-from drape import run as runner
-from drape import sweep
-from drape.case import load_case
+from drape.run import runner
+from drape.batch import sweep
+from drape.case.case import load_case
 
 ROOT = Path(__file__).resolve().parents[1]
 CANTILEVER = ROOT / "cases" / "cantilever.toml"
@@ -28,7 +28,7 @@ def write_table(path: Path, text: str) -> Path:
 
 
 def direct_run(tmp_path: Path, overrides: list[str], name: str) -> dict:
-    """The same run through drape.run directly (the reference for a sweep row)."""
+    """The same run through drape.run.runner directly (the reference for a sweep row)."""
     case = load_case(CANTILEVER, TINY + overrides)
     return runner.run_case(case, tmp_path / name, quiet=True)
 
@@ -214,7 +214,7 @@ def test_the_dask_environment_variable_names_the_scheduler(tmp_path, dask_cluste
     out = tmp_path / "sweep"
     env = env_with_worktree()
     env["DASK_SCHEDULER_ADDRESS"] = dask_cluster
-    proc = subprocess.run([sys.executable, "-m", "drape.sweep", str(CANTILEVER), "--grid",
+    proc = subprocess.run([sys.executable, "-m", "drape.batch.sweep", str(CANTILEVER), "--grid",
                            "mesh.nx=2", "--out", str(out), "--quiet",
                            *sum((["--set", o] for o in TINY), [])],
                           cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
@@ -228,7 +228,7 @@ def test_the_dask_environment_variable_names_the_scheduler(tmp_path, dask_cluste
 def test_a_terminated_sweep_resumes_with_only_the_missing_rows(tmp_path):
     out = tmp_path / "sweep"
     longer = ["mesh.nx=2", "mesh.ny=1", "solver.t_end=0.6"]
-    cmd = [sys.executable, "-m", "drape.sweep", str(CANTILEVER), "--grid",
+    cmd = [sys.executable, "-m", "drape.batch.sweep", str(CANTILEVER), "--grid",
            "material.bending_scale=1,1.5,2,3", "--out", str(out), "--workers", "1", "--quiet",
            *sum((["--set", o] for o in longer), [])]
     proc = subprocess.Popen(cmd, cwd=ROOT, env=env_with_worktree(), stdout=subprocess.PIPE,
@@ -252,7 +252,7 @@ def test_a_terminated_sweep_resumes_with_only_the_missing_rows(tmp_path):
     assert all(r["status"] == "completed" for r in first)
     kept = {r["name"]: (out / r["run_dir"] / "summary.json").stat().st_mtime_ns for r in first}
 
-    resumed = subprocess.run([sys.executable, "-m", "drape.sweep", "--resume", "--out", str(out),
+    resumed = subprocess.run([sys.executable, "-m", "drape.batch.sweep", "--resume", "--out", str(out),
                               "--workers", "1"], cwd=ROOT, env=env_with_worktree(),
                              capture_output=True, text=True, timeout=300)
     assert resumed.returncode == 0, resumed.stderr

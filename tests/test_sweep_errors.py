@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from drape import sweep
-from drape.lock import folder_lock
+from drape.batch import sweep
+from drape.run.lock import folder_lock
 
 ROOT = Path(__file__).resolve().parents[1]
 CANTILEVER = ROOT / "cases" / "cantilever.toml"
@@ -44,15 +44,15 @@ def one_error(capsys) -> str:
 
 
 # --------------------------------------------------------------------------- bad input, one line
-@pytest.mark.filterwarnings("ignore:'drape.sweep' found in sys.modules:RuntimeWarning")
+@pytest.mark.filterwarnings("ignore:'drape.batch.sweep' found in sys.modules:RuntimeWarning")
 @pytest.mark.parametrize("seeds, why", [("-1", "--seeds = -1: must be >= 1"),
                                         ("2", "has no seeded [load.perturbation]")])
 def test_seed_errors_are_one_line_under_python_m(tmp_path, capsys, monkeypatch, seeds, why):
     """Run as ``python -m drape.sweep`` (the module loaded a second time, as __main__)."""
-    monkeypatch.setattr(sys, "argv", ["drape.sweep", str(CANTILEVER), "--seeds", seeds,
+    monkeypatch.setattr(sys, "argv", ["drape.batch.sweep", str(CANTILEVER), "--seeds", seeds,
                                       "--out", str(tmp_path / "s")])
     with pytest.raises(SystemExit) as stop:
-        runpy.run_module("drape.sweep", run_name="__main__", alter_sys=True)
+        runpy.run_module("drape.batch.sweep", run_name="__main__", alter_sys=True)
     assert stop.value.code == 2
     assert why in one_error(capsys)
 
@@ -142,7 +142,7 @@ def test_a_finished_run_is_read_back_from_its_summary_not_run_again(tmp_path):
 
 
 def sweep_command(out: Path, *extra: str) -> list[str]:
-    return [sys.executable, "-m", "drape.sweep", str(CANTILEVER), "--grid",
+    return [sys.executable, "-m", "drape.batch.sweep", str(CANTILEVER), "--grid",
             "material.bending_scale=0.5,1,2", "--out", str(out), "--workers", "1", "--quiet",
             *extra]
 
@@ -174,7 +174,7 @@ def test_a_terminated_sweep_resumes_to_the_results_of_an_uninterrupted_one(tmp_p
             proc.wait()
     assert proc.returncode == 143, err
     assert len(sweep.read_results(results)) < 3
-    resumed = subprocess.run([sys.executable, "-m", "drape.sweep", "--resume", "--out", str(out),
+    resumed = subprocess.run([sys.executable, "-m", "drape.batch.sweep", "--resume", "--out", str(out),
                               "--workers", "1", "--quiet"], cwd=ROOT, env=env_with_worktree(),
                              capture_output=True, text=True, timeout=600)
     assert resumed.returncode == 0, resumed.stderr

@@ -12,9 +12,9 @@ from scipy.optimize import brentq
 
 from constitutive.material import DEFAULT_MEMBRANE
 from constitutive.tensile import DEFAULT_TENSILE, TensileCurve
-from drape.build import RunInputError, build_material
-from drape.case import CaseError, load_case
-from drape.cusick import skirt_tension
+from drape.case.build import RunInputError, build_material
+from drape.case.case import CaseError, load_case
+from drape.analyses.drape_coefficient import skirt_tension
 
 ROOT = Path(__file__).resolve().parents[1]
 WOOL = ROOT / "cases" / "validation" / "wool_tropical.toml"

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from constitutive.units import parse_quantity, parse_unit
-from drape.case import CaseError, load_case
+from drape.case.case import CaseError, load_case
 
 ROOT = Path(__file__).resolve().parents[1]
 CANTILEVER = ROOT / "cases" / "cantilever.toml"
@@ -52,7 +52,7 @@ def test_a_huge_power_in_a_case_key_is_refused_naming_the_key():
 
 def test_a_tower_of_powers_does_not_hang_the_loader():
     """Evaluated, 9**9**9 would take the process for hours; parsed, it is refused at once."""
-    code = ("from drape.case import load_case, CaseError\n"
+    code = ("from drape.case.case import load_case, CaseError\n"
             "try:\n    load_case(%r, ['mesh.length=\"9**9**9 cm\"'])\n"
             "except CaseError as e:\n    print(e)\n" % str(CANTILEVER))
     proc = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from drape import validate
-from drape.case import load_case
-from drape.sweep import read_results, read_table
+from drape.batch import validation_set as validate
+from drape.case.case import load_case
+from drape.batch.sweep import read_results, read_table
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases" / "validation"

@@ -8,6 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from constitutive.kes import kes_profile, kes_values, run_kes
+from constitutive.units import to_kes
+from drape.analyses.base import plain
+
 NAME = "kes"
 
 
@@ -28,10 +32,6 @@ def finish(ctx) -> dict:
     Beside them: the same values from the constitutive driver on the warp law, and the largest
     moment difference between the two along the loop relative to the largest moment.
     """
-    from constitutive.kes import kes_profile, kes_values, run_kes
-    from constitutive.units import to_kes
-    from drape.analyses import plain
-
     t = np.array([row["t"] for row in ctx.history])
     kappa = np.array([row["kappa"] for row in ctx.history])
     moment = np.array([row["moment"] for row in ctx.history])

@@ -1,24 +1,23 @@
 """Peirce / ASTM D1388 cantilever: bending length and rigidity of a settled strip.
 
-The strip overhangs from its one clamped boundary to ``free_end`` (:mod:`drape.peirce`).
+The strip overhangs from its one clamped boundary to ``free_end`` (:mod:`drape.analyses.bending_length`).
 """
 from __future__ import annotations
 
 from constitutive.units import G0
+from drape.analyses import bending_length as peirce
+from drape.analyses.base import AnalysisInputError, plain
 
 NAME = "peirce"
 
 
 def finish(ctx) -> dict:
-    """Tip drop and angles, Peirce c, G and G/B_KES (:func:`drape.peirce.peirce_summary`).
+    """Tip drop and angles, Peirce c, G and G/B_KES (:func:`drape.analyses.bending_length.peirce_summary`).
 
     The large-rotation shell reads the tip slope from its gradient dofs and picks the warp or
-    weft B from the strip's direction (:func:`drape.peirce.shell_peirce_summary`); the plate's
+    weft B from the strip's direction (:func:`drape.analyses.bending_length.shell_peirce_summary`); the plate's
     strips run along x, so B_KES is the slope of the warp law's simulated KES-FB loop.
     """
-    from drape import peirce
-    from drape.analyses import AnalysisInputError, plain
-
     if ctx.case.mesh.kind != "strip":
         raise AnalysisInputError("case.analysis = 'peirce' needs mesh.kind = 'strip'")
     clamped = [b for b, kind in ctx.case.model.supports.items() if kind == "clamped"]

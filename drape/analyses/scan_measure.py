@@ -1,0 +1,292 @@
+"""Read a measured (scanned) Cusick drape like a simulated one.
+
+``python -m drape.measure SCAN [SCAN ...] [--specimen 30cm] [--disc 18cm] [--out DIR] [--json]``
+
+A scan (any surface mesh meshio reads, :mod:`drape.analyses.scan`) goes through the very analysis a
+simulated drape goes through, :func:`drape.analyses.drape_coefficient.drape_analysis` with its default node
+detection: the shadow is the union of the projected triangles and the disc, the drape
+coefficient its share of the hanging annulus, the nodes the lobes of its outline ``r(phi)``
+read from the disc centre.  Only the centre differs: a simulated specimen hangs from a disc
+at the origin, a scanned one from wherever the scanner put it, so the centre is found from
+the scan (:func:`drape.analyses.scan.find_disc_top`) or given.  The descriptors are
+:meth:`drape.analyses.drape_coefficient.CusickResult.summary`, the keys a simulated run's ``summary.json`` has,
+among them the outline's harmonic amplitudes (:mod:`drape.analyses.outline`), which compare two drapes
+whatever their orientation on the disc.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from drape.analyses.drape_coefficient import CusickError, CusickResult, drape_analysis, plot_top_view
+from drape.analyses.scan import ScanError, check_extent, check_finite, check_units, find_disc_top, read_scan
+
+__all__ = ["SPECIMEN_DIAMETER", "DISC_DIAMETER", "Measurement", "length_m", "measure_surface",
+           "measure_scan", "format_table", "main"]
+
+#: BS 5058 set-up: a 30 cm specimen on an 18 cm disc (m).
+SPECIMEN_DIAMETER = 0.30
+DISC_DIAMETER = 0.18
+#: Harmonics shown in the table (k = 1 ..); all of them are in the JSON.
+TABLE_HARMONICS = 8
+#: Height band of the flat disc top (m): a registered scan's disc is flat to well under it; a
+#: stiff fabric stays within a millimetre of the top past the disc's edge, which would bias the
+#: centre towards its flattest side.
+TOP_BAND = 3e-4
+
+
+@dataclass
+class Measurement:
+    """One drape read by :func:`measure_surface`.
+
+    Attributes
+    ----------
+    name : str
+    result : CusickResult
+        DC, nodes, outline and shadow, as for a simulated drape.
+    centre_from : str
+        ``"disc top"`` (estimated) or ``"given"``.
+    disc_top : drape.analyses.scan.DiscTop or None
+        The flat top found on the disc (None when the centre was given).
+    n_vertices, n_triangles : int
+    """
+
+    name: str
+    result: CusickResult
+    centre_from: str
+    disc_top: object
+    n_vertices: int
+    n_triangles: int
+
+    def descriptors(self) -> dict:
+        """JSON-ready: the simulated drape's summary keys, the centre used and the outline."""
+        top = self.disc_top
+        return {
+            "name": self.name,
+            "centre_m": [float(c) for c in self.result.centre],
+            "centre_from": self.centre_from,
+            "disc_top_radius_m": None if top is None else top.radius,
+            "disc_top_level_m": None if top is None else top.level,
+            "specimen_radius_m": self.result.specimen_radius,
+            "disc_radius_m": self.result.disc_radius,
+            "n_vertices": self.n_vertices,
+            "n_triangles": self.n_triangles,
+            **self.result.summary(),
+            "outline_angles_deg": [float(a) for a in np.degrees(self.result.angles)],
+            "outline_radius_m": [float(r) for r in self.result.radius],
+        }
+
+
+def length_m(text, positive: bool = True) -> float:
+    """A length in metres from ``"30cm"``, ``"300 mm"`` or a bare number (metres); with
+    ``positive`` (the default) zero and negative lengths are refused.
+
+    Examples
+    --------
+    >>> length_m("30cm"), length_m("300 mm"), length_m("0.3"), length_m(0.3)
+    (0.3, 0.3, 0.3, 0.3)
+    >>> length_m("-2 mm", positive=False)
+    -0.002
+    """
+    from constitutive.units import ureg
+
+    try:
+        q = ureg.Quantity(text) if isinstance(text, str) else ureg.Quantity(float(text))
+        value = q.magnitude if q.dimensionless else q.to("m").magnitude
+        value = float(f"{float(value):.15g}")  # drop pint's round-off in the 16th digit
+    except Exception as exc:  # pint raises several kinds for a string it cannot read
+        raise ValueError(f"{text!r} is not a length (e.g. 30cm, 300 mm, 0.3 for metres): {exc}")
+    if not np.isfinite(value) or (positive and value <= 0.0):
+        raise ValueError(f"{text!r}: a length must be {'positive' if positive else 'finite'}")
+    return value
+
+
+def measure_surface(points, triangles, specimen_radius: float = SPECIMEN_DIAMETER / 2,
+                    disc_radius: float = DISC_DIAMETER / 2, centre=None, name: str = "scan",
+                    top_band: float = TOP_BAND) -> Measurement:
+    """Descriptors of a draped surface in the drape meter's frame (metres, skirt towards -z).
+
+    Parameters
+    ----------
+    points : array_like, shape (N, 3)
+    triangles : array_like of int, shape (T, 3)
+    specimen_radius, disc_radius : float
+        Nominal radii (m).
+    centre : tuple of float, optional
+        Disc centre (x, y) in metres; estimated from the flat top when not given.
+    name : str
+    top_band : float
+        Height band (m) of the flat disc top the centre is estimated from
+        (:func:`drape.analyses.scan.find_disc_top`).
+
+    Returns
+    -------
+    Measurement
+
+    Raises
+    ------
+    drape.analyses.scan.ScanError
+        Coordinates not finite or not in metres, no disc top, or larger than the specimen.
+    """
+    points = np.asarray(points, dtype=float)
+    triangles = np.asarray(triangles)
+    check_finite(points)
+    check_units(points, specimen_radius, disc_radius)
+    top = None
+    if centre is None:
+        top = find_disc_top(points, disc_radius, top_band)
+        centre = top.centre
+    check_extent(points, centre, specimen_radius)
+    try:
+        result = drape_analysis(points, triangles, specimen_radius, disc_radius, centre=centre)
+    except CusickError as exc:
+        raise ScanError(str(exc)) from None
+    return Measurement(name, result, "disc top" if top is not None else "given", top,
+                       len(points), len(triangles))
+
+
+def measure_scan(path, specimen_radius: float = SPECIMEN_DIAMETER / 2,
+                 disc_radius: float = DISC_DIAMETER / 2, centre=None, scale: float = 1.0,
+                 name: str | None = None, top_band: float = TOP_BAND) -> Measurement:
+    """:func:`measure_surface` of a mesh file (:func:`drape.analyses.scan.read_scan`).
+
+    Raises
+    ------
+    drape.analyses.scan.ScanError
+        One line naming the file and what is wrong with it.
+    """
+    path = Path(path)
+    try:
+        points, triangles = read_scan(path, scale)
+        return measure_surface(points, triangles, specimen_radius, disc_radius, centre,
+                               name or path.stem, top_band)
+    except ScanError as exc:
+        message = str(exc)
+        message = message if message.startswith(str(path)) else f"{path}: {message}"
+        raise ScanError(message) from None
+
+
+def format_table(measurements) -> str:
+    """One line per drape: DC, nodes, mean fold depth, the centre used, harmonics a_1 .. a_8."""
+    width = max([len(m.name) for m in measurements] + [4])
+    harmonics = "".join(f"{f'a{k}':>6}" for k in range(1, TABLE_HARMONICS + 1))
+    lines = [f"{'scan':<{width}}  {'DC %':>6} {'nodes':>5} {'depth':>6}  {'centre x, y':>13}"
+             f"{harmonics}",
+             f"{'':<{width}}  {'':>6} {'':>5} {'mm':>6}  {'mm':>13}{'(mm)':>6}"]
+    for m in measurements:
+        s = m.result.summary()
+        cx, cy = (1e3 * c for c in m.result.centre)
+        amps = "".join(f"{1e3 * a:6.1f}" for a in s["outline_harmonics_m"][1:TABLE_HARMONICS + 1])
+        lines.append(f"{m.name:<{width}}  {s['drape_coefficient_percent']:6.1f} {s['n_nodes']:5d} "
+                     f"{1e3 * s['node_depth_mean_m']:6.1f}  {cx:6.1f},{cy:6.1f}{amps}")
+    return "\n".join(lines)
+
+
+def _unique_names(paths) -> list[str]:
+    names, seen = [], {}
+    for p in paths:
+        stem = Path(p).stem
+        seen[stem] = seen.get(stem, 0) + 1
+        names.append(stem if seen[stem] == 1 else f"{stem}-{seen[stem]}")
+    return names
+
+
+def _arg_length(text: str) -> float:
+    try:
+        return length_m(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _arg_centre(text: str) -> tuple:
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise argparse.ArgumentTypeError(f"{text!r}: give the centre as x,y (e.g. 0.002,-0.001)")
+    try:
+        return tuple(length_m(p, positive=False) for p in parts)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _arg_scale(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not (np.isfinite(value) and value > 0.0):
+        raise argparse.ArgumentTypeError(f"{text!r}: the scale must be a positive number")
+    return value
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="python -m drape.measure",
+        description="Read scanned Cusick drapes like simulated ones: drape coefficient, nodes "
+                    "and their angles, fold depths, the hem's outline r(theta) and its harmonic "
+                    "amplitudes a_k (independent of the drape's orientation), and a top view. "
+                    "A scan is any surface mesh meshio reads (PLY, OBJ, STL, VTU, ...) in "
+                    "metres, the disc's top near z = 0 and the skirt hanging towards -z; the "
+                    "disc centre is found from the flat top unless --centre gives it.",
+        epilog="Exit status: 0, or 2 when a scan is missing, unreadable, not a surface, not "
+               "finite, not in metres, has no disc top or is larger than the specimen (one "
+               "line on stderr per such scan; the others are still measured).")
+    p.add_argument("scans", nargs="+", metavar="SCAN", help="surface mesh files")
+    p.add_argument("--specimen", type=_arg_length, default=SPECIMEN_DIAMETER, metavar="LENGTH",
+                   help="specimen diameter, e.g. 30cm, '300 mm', 0.3 (metres); default 30 cm")
+    p.add_argument("--disc", type=_arg_length, default=DISC_DIAMETER, metavar="LENGTH",
+                   help="disc diameter; default 18 cm (BS 5058)")
+    p.add_argument("--centre", type=_arg_centre, default=None, metavar="X,Y",
+                   help="disc centre in metres (or with units, e.g. 2mm,-1mm), instead of the "
+                        "estimate from the flat top; write --centre=-2mm,1mm when x is negative")
+    p.add_argument("--top-band", type=_arg_length, default=TOP_BAND, metavar="LENGTH",
+                   help="height band of the flat disc top the centre is found from; default "
+                        "0.3 mm, widen it for a noisy scan")
+    p.add_argument("--scale", type=_arg_scale, default=1.0, metavar="FACTOR",
+                   help="multiply the coordinates by FACTOR to get metres (0.001 for mm)")
+    p.add_argument("--out", type=Path, default=None, metavar="DIR",
+                   help="write <name>_top.png per scan and measure.json there")
+    p.add_argument("--json", action="store_true",
+                   help="print the full descriptors as JSON instead of the table")
+    return p
+
+
+def _write_outputs(out: Path, measurements, report: dict) -> None:
+    out.mkdir(parents=True, exist_ok=True)
+    for m in measurements:
+        plot_top_view(m.result, out / f"{m.name}_top.png", title=m.name)
+    (out / "measure.json").write_text(json.dumps(report, indent=2))
+
+
+def main(argv=None) -> int:
+    """Command line: measure every scan, print the table (or JSON), write the outputs."""
+    args = _parser().parse_args(argv)
+    if args.specimen <= args.disc:
+        print(f"error: specimen {args.specimen:g} m must be larger than the disc {args.disc:g} m",
+              file=sys.stderr)
+        return 2
+    measurements, failures = [], []
+    for path, name in zip(args.scans, _unique_names(args.scans)):
+        try:
+            measurements.append(measure_scan(path, args.specimen / 2, args.disc / 2, args.centre,
+                                             args.scale, name, args.top_band))
+        except ScanError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            failures.append({"scan": str(path), "error": str(exc)})
+    report = {"specimen_diameter_m": args.specimen, "disc_diameter_m": args.disc,
+              "scans": [m.descriptors() for m in measurements], "failed": failures}
+    if args.out is not None and measurements:
+        _write_outputs(args.out, measurements, report)
+    if args.json:
+        print(json.dumps(report, indent=2))
+    elif measurements:
+        print(format_table(measurements))
+    return 2 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,26 @@
+"""Many runs of one case: sweeps, seed ensembles, sensitivity studies, validation, reports.
+
+Every row is an ordinary :func:`drape.run.run_case` in its own folder.
+
+Modules
+-------
+sweep
+    A base case over a run table or a grid of keys, on Dask; ``results.csv``.
+ensemble
+    Seed ensembles: DC and nodes as mean, standard deviation and histogram.
+sensitivity
+    One-factor-at-a-time studies and the tornado chart.
+validation_set
+    The validation cases simulated against their ``[measured]`` tables.
+report
+    A self-contained ``report.html`` of a sweep or a run.
+"""
+from drape.batch.ensemble import ensemble_stats, ensembles, seed_rows
+from drape.batch.report import write_report
+from drape.batch.sensitivity import Factor, Level, run_study
+from drape.batch.sweep import SweepError, SweepRow, read_results, run_sweep
+from drape.batch.validation_set import run_validation, validation_cases
+
+__all__ = ["SweepRow", "SweepError", "run_sweep", "read_results", "seed_rows", "ensembles",
+           "ensemble_stats", "Factor", "Level", "run_study", "run_validation", "validation_cases",
+           "write_report"]

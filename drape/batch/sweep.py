@@ -1,0 +1,630 @@
+"""Drape a catalogue: one base case, many runs, on Dask.
+
+``python -m drape.sweep BASE.toml [--table RUNS.csv | --grid KEY=V1,V2,... ...] [--seeds N] --out DIR``
+
+Each run is an ordinary case run (:func:`drape.run.runner.run_case`) of the base case with the row's
+keys overridden, in its own folder ``DIR/runs/<name>/``. The runs are Dask tasks: on an
+embedded :class:`distributed.LocalCluster` (one single-threaded worker process per core) by
+default, or on an existing cluster with ``--scheduler tcp://HOST:PORT`` (or the
+``DASK_SCHEDULER_ADDRESS`` environment variable). Workers of an existing cluster must see the
+case file and ``DIR`` under the same paths (a shared file system).
+
+A run table is a CSV file with one row per run: a ``name`` column (optional; ``run000`` ...
+otherwise), any case keys by their dotted names as columns (values read like ``--set``
+values; an empty cell keeps the base case's value), and columns ``measured.<quantity>`` that
+are not case keys but measurements copied into the results (``measured.DC``, the measured
+drape coefficient in %, is drawn beside the computed one in the report). A grid is the
+product of the values given for each key. ``--seeds N`` runs every row (or the base case
+alone) under the perturbation seeds 0 .. N-1 and writes ``DIR/ensemble.json``, the seed
+ensemble of each row (:mod:`drape.batch.ensemble`).
+
+``DIR/results.csv`` gets one row per finished run as soon as it finishes: the inputs, the
+status, the drape coefficient and nodes (Cusick runs), the settling time, the wall time and,
+for a run that did not finish well, the one-line reason. A run that fails does not stop the
+others. ``--resume`` keeps the rows already finished and runs only the others (a run stopped midway
+continues from its checkpoint); the sweep's definition is kept in ``DIR/sweep.json``, so
+``--resume --out DIR`` alone continues it.
+
+A run that finished (its ``summary.json`` says completed or settled, for the same case) is
+never run again: on ``--resume`` its row is read back from its summary, so a sweep stopped and
+resumed gives the same ``results.csv`` as one never stopped.
+
+Statuses: those of :mod:`drape.run.runner` (completed, settled, failed, interrupted, terminated,
+error), ``invalid`` (the row's case does not validate or cannot be built) and ``lost`` (the
+worker running it died). Exit codes (:mod:`drape.run.cli`): 0 every run finished (whatever its
+status), 2 bad input, 4 an I/O error (the folder cannot be written or another sweep writes
+into it, the scheduler cannot be reached), 130 interrupted (Ctrl-C), 143 terminated
+(SIGTERM): finished rows stay in ``results.csv``. The Dask dashboard is off unless
+``--dashboard`` asks for it, and then it listens on 127.0.0.1 only.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import itertools
+import json
+import math
+import os
+import re
+import socket
+import sys
+import time
+import uuid
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from drape.case.case import CaseError
+from drape.run.cli import EXIT_CODES, EXIT_OK, Parser, code_of, describe, fail, one_line
+from drape.run.lock import folder_lock
+from drape.run.termination import sigterm_raises, stopped
+
+__all__ = ["SweepRow", "SweepError", "read_table", "grid_rows", "run_row", "run_sweep",
+           "RESULT_COLUMNS", "read_results", "main"]
+
+#: Output columns of results.csv after the input columns.
+RESULT_COLUMNS = ("status", "reason", "DC_percent", "nodes", "settling_time_s", "t_final_s",
+                  "steps", "wall_time_s", "bending_length_m", "B_warp_Nm", "B_weft_Nm",
+                  "weight_N_per_m2", "run_dir", "pvd", "worker")
+
+#: Statuses that mean "this run has to be run again" on ``--resume``.
+UNFINISHED = ("interrupted", "terminated", "lost")
+
+#: Thread limits of a run: one core per worker process, whatever its kernels could use.
+SINGLE_THREADED = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+                   "OPENBLAS_NUM_THREADS": "1"}
+
+MEASURED = "measured."
+_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
+
+
+class SweepError(ValueError):
+    """A run table, grid or sweep folder breaks a rule (the message names it)."""
+
+
+@dataclass(frozen=True)
+class SweepRow:
+    """One run of a sweep: its name, its case overrides and the measured values beside it."""
+
+    name: str
+    keys: dict = field(default_factory=dict)       # dotted case key -> value text
+    measured: dict = field(default_factory=dict)   # "measured.<quantity>" -> value text
+    group: str = ""                                # the seed ensemble it belongs to
+
+    def overrides(self) -> list[str]:
+        """The row as ``--set`` items."""
+        return [f"{k}={v}" for k, v in self.keys.items()]
+
+
+# --------------------------------------------------------------------------- rows
+def read_table(path) -> list[SweepRow]:
+    """Rows of a run table (CSV with a header; see the module docstring).
+
+    >>> import io, tempfile, os
+    >>> with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as fh:
+    ...     _ = fh.write("name,material.bending_scale,measured.DC\\nstiff,2,31.5\\nbase,,\\n")
+    >>> rows = read_table(fh.name); os.unlink(fh.name)
+    >>> [(r.name, r.keys, r.measured) for r in rows]
+    [('stiff', {'material.bending_scale': '2'}, {'measured.DC': '31.5'}), ('base', {}, {})]
+    """
+    path = Path(path)
+    try:
+        with open(path, newline="") as fh:
+            lines = [[cell.strip() for cell in rec] for rec in csv.reader(fh)]
+    except FileNotFoundError:
+        raise SweepError(f"run table {str(path)!r} does not exist") from None
+    columns, records = (lines[0], lines[1:]) if lines else ([], [])
+    if not columns:
+        raise SweepError(f"run table {path}: no header row (a 'name' column and case keys)")
+    for col in columns:
+        if not col or (col != "name" and not col.startswith(MEASURED) and "." not in col):
+            raise SweepError(f"run table {path}: column {col!r} is neither 'name', a dotted case "
+                             f"key (e.g. material.bending_scale) nor measured.<quantity>")
+    if len(set(columns)) != len(columns):
+        raise SweepError(f"run table {path}: repeated column in {columns}")
+    rows = []
+    for i, rec in enumerate(r for r in records if any(r)):
+        if len(rec) != len(columns):
+            raise SweepError(f"run table {path}, row {i + 1}: {len(rec)} cells for "
+                             f"{len(columns)} columns")
+        cells = dict(zip(columns, rec))
+        name = cells.pop("name", "") or f"run{i:03d}"
+        keys = {k: v for k, v in cells.items() if v and not k.startswith(MEASURED)}
+        measured = {k: v for k, v in cells.items() if v and k.startswith(MEASURED)}
+        rows.append(SweepRow(name, keys, measured))
+    return _checked(rows, f"run table {path}")
+
+
+def grid_rows(specs: list[str]) -> list[SweepRow]:
+    """Rows of the product of ``KEY=V1,V2,...`` value lists (the last key varies fastest).
+
+    >>> [r.keys for r in grid_rows(["mesh.nx=4,8", "material.friction=true,false"])][:2]
+    [{'mesh.nx': '4', 'material.friction': 'true'}, {'mesh.nx': '4', 'material.friction': 'false'}]
+    """
+    axes = []
+    for spec in specs:
+        key, sep, values = spec.partition("=")
+        key = key.strip()
+        if not sep or "." not in key:
+            raise SweepError(f"--grid {spec!r}: expected KEY=V1,V2,... with a dotted case KEY")
+        items = [v.strip() for v in values.split(",")]
+        if not all(items):
+            raise SweepError(f"--grid {spec!r}: empty value in the list")
+        axes.append([(key, v) for v in items])
+    if not axes:
+        raise SweepError("--grid: give at least one KEY=V1,V2,...")
+    keys = [axis[0][0] for axis in axes]
+    if len(set(keys)) != len(keys):
+        raise SweepError(f"--grid: key given twice in {keys}")
+    rows = [SweepRow(f"run{i:03d}", dict(combo)) for i, combo in enumerate(itertools.product(*axes))]
+    return _checked(rows, "--grid")
+
+
+def _checked(rows: list[SweepRow], where: str) -> list[SweepRow]:
+    if not rows:
+        raise SweepError(f"{where}: no runs")
+    seen = set()
+    for row in rows:
+        if not _NAME.match(row.name):
+            raise SweepError(f"{where}: run name {row.name!r} must be letters, digits, '.', '_' "
+                             f"or '-' (it names the run's folder)")
+        if row.name in seen:
+            raise SweepError(f"{where}: run name {row.name!r} appears twice")
+        seen.add(row.name)
+    return rows
+
+
+# --------------------------------------------------------------------------- one run
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(part.strip() for part in str(exc).splitlines() if part.strip())
+    return f"{type(exc).__name__}: {text}" if not isinstance(exc, (CaseError, ValueError)) else text
+
+
+class SchedulerError(OSError):
+    """The Dask scheduler given cannot be reached (the message names its address)."""
+
+
+def _material_columns(material) -> dict:
+    """B of each direction (simulated KES-FB), the weight W and the bending length (B/W)^(1/3).
+
+    The bending length of the fabric uses the geometric mean of the warp and weft B, i.e. it
+    is the geometric mean of the two directions' bending lengths.
+    """
+    from constitutive.units import G0
+
+    kes = material.simulated_kes()
+    b_warp, b_weft = float(kes["warp"].B), float(kes["weft"].B)
+    weight = float(material.areal_mass) * G0
+    return {"B_warp_Nm": b_warp, "B_weft_Nm": b_weft, "weight_N_per_m2": weight,
+            "bending_length_m": (math.sqrt(b_warp * b_weft) / weight) ** (1.0 / 3.0)}
+
+
+def _worker_address() -> str:
+    from distributed import get_worker
+
+    try:
+        return get_worker().address
+    except ValueError:   # called outside a Dask worker
+        return ""
+
+
+def _continues(case, run_dir: Path) -> bool:
+    """True when ``run_dir`` holds a stopped run of exactly ``case`` with a checkpoint."""
+    from drape.run.checkpoint import CHECKPOINT
+
+    return (run_dir / CHECKPOINT).exists() and _same_case(case, run_dir)
+
+
+def _same_case(case, run_dir: Path) -> bool:
+    """True when ``run_dir/case.resolved.toml`` is ``case``."""
+    from drape.case.case import dump_case
+
+    resolved = run_dir / "case.resolved.toml"
+    if not resolved.exists():
+        return False
+    body = "".join(line for line in resolved.read_text().splitlines(keepends=True)
+                   if not line.startswith("#"))
+    return body == dump_case(case)
+
+
+def run_row(case_path: str, overrides: list[str], run_dir: str, resume: bool = False) -> dict:
+    """Run one row: an ordinary case run of ``case_path`` with ``overrides`` in ``run_dir``.
+
+    With ``resume``, a run of the same case stopped in ``run_dir`` continues from its
+    checkpoint. Never raises for a bad row or a failed run: the returned result columns say
+    what happened (this is the Dask task, and one run must not stop the others).
+    """
+    for key, value in SINGLE_THREADED.items():
+        os.environ.setdefault(key, value)
+    from drape.case.build import build
+    from drape.case.case import load_case
+    from drape.run.checkpoint import read_checkpoint
+    from drape.run.runner import run_case
+
+    wall0 = time.perf_counter()
+    out = {"run_dir": run_dir, "worker": _worker_address()}
+    try:
+        case = load_case(case_path, overrides)
+        parts = build(case)
+        out.update(_material_columns(parts.material))
+    except (CaseError, ValueError) as exc:
+        return {**out, "status": "invalid", "reason": _one_line(exc)}
+    except Exception as exc:
+        return {**out, "status": "error", "reason": _one_line(exc)}
+    source = f"from {case_path}" + "".join(f" --set {o}" for o in overrides)
+    try:
+        finished = _finished_run(case, Path(run_dir)) if resume else None
+        if finished is not None:                  # ran to its end before the sweep was stopped
+            return {**out, **_summary_columns(finished), "wall_time_s": finished["wall_time_s"]}
+        checkpoint = _checkpoint(case, Path(run_dir)) if resume else None
+        summary = run_case(case, Path(run_dir), quiet=True, parts=parts, source=source,
+                           resume=checkpoint)
+    except Exception as exc:
+        return {**out, "status": "error", "reason": _one_line(exc),
+                "wall_time_s": time.perf_counter() - wall0}
+    return {**out, **_summary_columns(summary), "wall_time_s": time.perf_counter() - wall0}
+
+
+def _summary_columns(summary: dict) -> dict:
+    """The result columns a run's summary gives."""
+    analysis = summary.get("analysis", {})
+    out = {"status": summary["status"],
+           "reason": "" if summary["status"] in ("completed", "settled") else summary["reason"],
+           "DC_percent": analysis.get("drape_coefficient_percent"),
+           "nodes": analysis.get("n_nodes"),
+           "settling_time_s": summary.get("settling_time"),
+           "t_final_s": summary["t_final"], "steps": summary["steps"], "pvd": summary["pvd"]}
+    if "error" in analysis:
+        out["reason"] = f"analysis {analysis.get('name')}: {analysis['error']}"
+    return out
+
+
+def _finished_run(case, run_dir: Path) -> dict | None:
+    """The summary of a run of exactly ``case`` that finished in ``run_dir``, else None."""
+    from drape.run.runner import ResumeError, read_summary
+
+    try:
+        summary = read_summary(run_dir)
+    except ResumeError:
+        return None
+    if summary.get("status") not in ("completed", "settled") or not _same_case(case, run_dir):
+        return None
+    return summary
+
+
+def _checkpoint(case, run_dir: Path):
+    """The checkpoint of a stopped run of exactly ``case`` in ``run_dir``; None when there is
+    none or it cannot be read (the row then runs from its start)."""
+    from drape.run.checkpoint import CheckpointError, read_checkpoint
+
+    if not _continues(case, run_dir):
+        return None
+    try:
+        return read_checkpoint(run_dir)
+    except CheckpointError:
+        return None
+
+
+# --------------------------------------------------------------------------- results
+def read_results(path) -> list[dict]:
+    """Rows of a results.csv (all values as text)."""
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+class _Results:
+    """results.csv: a header, then one row per finished run, each flushed to disk at once."""
+
+    def __init__(self, path: Path, rows: list[SweepRow], keep: list[dict]):
+        keys = list(dict.fromkeys(k for r in rows for k in r.keys))
+        measured = list(dict.fromkeys(k for r in rows for k in r.measured))
+        self.columns = ["name", *keys, *measured, *RESULT_COLUMNS]
+        tmp = path.with_name(f".{path.name}.tmp")
+        with open(tmp, "w", newline="") as fh:   # rewritten whole: only finished rows survive
+            writer = csv.DictWriter(fh, self.columns, extrasaction="ignore")
+            writer.writeheader()
+            writer.writerows(keep)
+        os.replace(tmp, path)
+        self.fh = open(path, "a", newline="")
+        self.writer = csv.DictWriter(self.fh, self.columns, extrasaction="ignore")
+
+    def add(self, row: SweepRow, result: dict) -> dict:
+        record = {"name": row.name, **row.keys, **row.measured,
+                  **{k: _cell(result.get(k)) for k in RESULT_COLUMNS}}
+        self.writer.writerow(record)
+        self.fh.flush()
+        os.fsync(self.fh.fileno())
+        return record
+
+    def close(self):
+        self.fh.close()
+
+
+def _cell(value):
+    if value is None:
+        return ""
+    if isinstance(value, float):
+        return repr(value)
+    return value
+
+
+# --------------------------------------------------------------------------- the sweep
+#: Seconds to wait for an existing scheduler to answer.
+CONNECT_TIMEOUT = 10
+
+
+def _client(scheduler: str | None, workers: int | None, dashboard: bool = False):
+    """A Dask client: of ``scheduler`` (or DASK_SCHEDULER_ADDRESS), else of a LocalCluster.
+
+    The local cluster listens on 127.0.0.1 only, its web server (health checks; the dashboard,
+    which has no authentication, only if ``dashboard``) too.
+    """
+    import dask
+    from distributed import Client, LocalCluster
+
+    address = scheduler or dask.config.get("scheduler-address", None)
+    if address:
+        _reachable(address)
+        return Client(address, timeout=f"{CONNECT_TIMEOUT}s"), None
+    n = workers or os.cpu_count() or 1
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                           host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                           scheduler_kwargs={"dashboard": dashboard}, env=dict(SINGLE_THREADED))
+    return Client(cluster), cluster
+
+
+def _reachable(address: str) -> None:
+    """Check that ``address`` is a scheduler address and that something listens there.
+
+    Raises :class:`SweepError` for an address that is not one and :class:`SchedulerError`
+    when nothing answers, before the sweep writes anything (a client that fails to connect
+    cannot be closed cleanly).
+    """
+    from distributed.comm import parse_address, parse_host_port
+    from distributed.comm.registry import backends
+
+    try:
+        scheme, location = parse_address(address)
+        if scheme not in backends:
+            raise ValueError(f"unknown scheme {scheme!r}; known: {', '.join(sorted(backends))}")
+        host, port = parse_host_port(location) if scheme in ("tcp", "tls") else (None, None)
+    except (ValueError, TypeError) as exc:
+        raise SweepError(f"--scheduler {address!r}: not a scheduler address ({one_line(exc)}); "
+                         f"e.g. tcp://HOST:8786") from None
+    if host is None:
+        return
+    try:
+        with socket.create_connection((host, port), timeout=CONNECT_TIMEOUT):
+            pass
+    except OSError as exc:
+        raise SchedulerError(f"cannot reach the Dask scheduler at {address} "
+                             f"({describe(exc)})") from None
+
+
+def _finished(out: Path, rows: list[SweepRow]) -> list[dict]:
+    """Rows of ``out/results.csv`` that need not run again (same inputs, a final status)."""
+    path = out / "results.csv"
+    if not path.exists():
+        return []
+    by_name = {r.name: r for r in rows}
+    keep = []
+    for rec in read_results(path):
+        row = by_name.get(rec.get("name"))
+        if row is None or rec.get("status") in UNFINISHED:
+            continue
+        given = {k: v for k, v in rec.items() if v and "." in k and not k.startswith(MEASURED)
+                 and k not in RESULT_COLUMNS}
+        if given != row.keys:
+            raise SweepError(f"--resume: run {row.name!r} finished with {given}, but the sweep now "
+                             f"gives {row.keys}; use a new --out for a different sweep")
+        keep.append(rec)
+    return keep
+
+
+def run_sweep(case_path, rows: list[SweepRow], out, *, overrides: list[str] | None = None,
+              scheduler: str | None = None, workers: int | None = None, resume: bool = False,
+              quiet: bool = False, dashboard: bool = False) -> list[dict]:
+    """Run ``rows`` of ``case_path`` into ``out``; return the results.csv records of this call.
+
+    ``overrides`` (``--set`` items) apply to every row, before the row's own keys. One sweep
+    at a time writes into ``out`` (:mod:`drape.run.lock`); nothing is written before the cluster
+    answers.
+    """
+    out = Path(out).resolve()
+    case_path = str(Path(case_path).resolve())
+    out.mkdir(parents=True, exist_ok=True)
+    with folder_lock(out):
+        keep = _finished(out, rows) if resume else []
+        if not resume and (out / "results.csv").exists():
+            raise SweepError(f"{out / 'results.csv'} exists: continue it with --resume, or use a "
+                             f"new --out")
+        client, cluster = _client(scheduler, workers, dashboard)
+        try:
+            if dashboard and cluster is not None and not quiet:
+                print(f"dashboard: {cluster.dashboard_link}", file=sys.stderr)
+            _write_definition(out, case_path, rows, overrides or [])
+            return _submit(client, case_path, rows, out, list(overrides or []), keep, resume, quiet)
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+def _submit(client, case_path: str, rows: list[SweepRow], out: Path, overrides: list[str],
+            keep: list[dict], resume: bool, quiet: bool) -> list[dict]:
+    """Run the rows not in ``keep`` on ``client``, adding each to results.csv as it finishes."""
+    from distributed import as_completed
+    from tqdm import tqdm
+
+    done = {rec["name"] for rec in keep}
+    todo = [r for r in rows if r.name not in done]
+    results = _Results(out / "results.csv", rows, keep)
+    records = []
+    bar = tqdm(total=len(rows), initial=len(done), disable=quiet, unit="run", desc="runs",
+               file=sys.stderr)
+    futures = {}
+    try:
+        tag = uuid.uuid4().hex[:8]
+        for row in todo:
+            fut = client.submit(run_row, case_path, overrides + row.overrides(),
+                                str(out / "runs" / row.name), resume,
+                                key=f"drape-{row.name}-{tag}", pure=False)
+            futures[fut] = row
+        for fut in as_completed(list(futures)):
+            row = futures[fut]
+            try:
+                result = fut.result()
+            except Exception as exc:  # the worker died under it, or it was cancelled
+                result = {"status": "lost", "reason": _one_line(exc)}
+            result["run_dir"] = f"runs/{row.name}"   # relative: the sweep folder may move
+            records.append(results.add(row, result))
+            bar.set_postfix_str(f"{row.name}: {result['status']}", refresh=False)
+            bar.update(1)
+    finally:
+        if futures:       # first of all: no row may start once the sweep is stopped
+            client.cancel(list(futures), force=True)
+        bar.close()
+        results.close()
+    return records
+
+
+def _write_definition(out: Path, case_path: str, rows: list[SweepRow], overrides: list[str]):
+    data = {"case": case_path, "set": overrides,
+            "rows": [{"name": r.name, "keys": r.keys, "measured": r.measured, "group": r.group}
+                     for r in rows]}
+    tmp = out / ".sweep.json.tmp"
+    tmp.write_text(json.dumps(data, indent=1))
+    os.replace(tmp, out / "sweep.json")
+
+
+def _read_definition(out: Path):
+    path = out / "sweep.json"
+    if not path.exists():
+        raise SweepError(f"--resume: {path} does not exist; give the case and --table or --grid")
+    data = json.loads(path.read_text())
+    rows = [SweepRow(r["name"], r["keys"], r["measured"], r.get("group", "")) for r in data["rows"]]
+    return data["case"], rows, data["set"]
+
+
+# --------------------------------------------------------------------------- CLI
+def _parser() -> argparse.ArgumentParser:
+    p = Parser(
+        prog="python -m drape.sweep",
+        description="Run a base case over a run table or a grid of case keys, on Dask; "
+                    "results.csv gets one row per finished run.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="examples:\n"
+               "  python -m drape.sweep cases/cusick_kes.toml --table cases/kes_catalogue.csv "
+               "--out out/catalogue\n"
+               "  python -m drape.sweep cases/cantilever.toml --grid material.bending_scale=0.5,1,2 "
+               "--out out/scale\n"
+               "  python -m drape.sweep cases/cusick_kes.toml --seeds 5 --out out/seeds\n"
+               "  python -m drape.sweep --resume --out out/catalogue\n"
+               "  python -m drape.sweep ... --scheduler tcp://10.0.0.5:8786   (an existing "
+               "cluster)\n\n" + EXIT_CODES,
+    )
+    p.add_argument("case", nargs="?", help="base case file (TOML)")
+    rows = p.add_mutually_exclusive_group()
+    rows.add_argument("--table", metavar="CSV", help="run table: name, case keys, measured.*")
+    rows.add_argument("--grid", metavar="KEY=V1,V2", action="append",
+                      help="values of one case key; repeat for a product of several keys")
+    p.add_argument("--seeds", type=int, metavar="N", help="run every row (or the case alone) under "
+                   "the perturbation seeds 0..N-1; DIR/ensemble.json summarises each row's seeds")
+    p.add_argument("--out", metavar="DIR", required=True, help="sweep folder")
+    add_batch_options(p, resume="keep the finished rows of DIR/results.csv and run the others",
+                      quiet="no progress bar, no final table")
+    p.add_argument("--dashboard", action="store_true",
+                   help="serve the local cluster's Dask dashboard on 127.0.0.1 (it has no "
+                        "authentication; off by default)")
+    return p
+
+
+def add_batch_options(p, resume: str, quiet: str = "no progress bars") -> None:
+    """The options every batch of runs on Dask shares (sweep, validation set, sensitivity study):
+    ``--set``, ``--scheduler``, ``--workers``, ``--resume`` and ``--quiet`` (their help: ``resume``, ``quiet``)."""
+    p.add_argument("--set", metavar="KEY=VALUE", action="append", default=[], dest="overrides",
+                   help="override a case key in every run (as in drape.run.runner)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="Dask scheduler of an existing cluster, e.g. tcp://HOST:8786 "
+                        "(default: DASK_SCHEDULER_ADDRESS, else a local cluster)")
+    p.add_argument("--workers", type=int, metavar="N",
+                   help="worker processes of the local cluster (default: one per core)")
+    p.add_argument("--resume", action="store_true", help=resume)
+    p.add_argument("--quiet", action="store_true", help=quiet)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command-line entry point; returns the exit code (:data:`drape.run.cli.EXIT_CODES`)."""
+    args = _parser().parse_args(argv)
+    out = Path(args.out)
+    with sigterm_raises():
+        try:
+            records = _sweep(args, out)
+        except KeyboardInterrupt as exc:
+            return stopped(exc, "sweep", f"finished runs are in {out / 'results.csv'} "
+                                         f"(continue with --resume)")
+        except (Exception) as exc:    # every problem is one line, with the code of its kind
+            return fail(describe(exc), code_of(exc))
+    _print_records(records, out, args.quiet)
+    return _finish(out, args.quiet)
+
+
+def _sweep(args, out: Path) -> list[dict]:
+    """The rows the options give, run (:func:`run_sweep`)."""
+    if args.workers is not None and args.workers < 1:
+        raise SweepError(f"--workers = {args.workers}: must be >= 1")
+    if args.seeds is not None and args.seeds < 1:
+        raise SweepError(f"--seeds = {args.seeds}: must be >= 1")
+    if args.case is None:
+        if not args.resume:
+            raise SweepError("the base case file is required (or --resume --out DIR)")
+        case_path, rows, overrides = _read_definition(out)
+    else:
+        if not (args.table or args.grid or args.seeds):
+            raise SweepError("give the runs: --table CSV, --grid KEY=V1,V2,... or --seeds N")
+        rows = read_table(args.table) if args.table else grid_rows(args.grid) if args.grid else None
+        case_path, overrides = args.case, args.overrides
+        if not Path(case_path).is_file():
+            raise SweepError(f"case file {case_path!r} does not exist")
+        if args.seeds is not None:
+            from drape.batch.ensemble import seeded
+
+            rows = _checked(seeded(case_path, overrides, rows, args.seeds), "--seeds")
+    return run_sweep(case_path, rows, out, overrides=overrides, scheduler=args.scheduler,
+                     workers=args.workers, resume=args.resume, quiet=args.quiet,
+                     dashboard=args.dashboard)
+
+
+def _print_records(records: list[dict], out: Path, quiet: bool) -> None:
+    if quiet:
+        return
+    for rec in records:
+        dc = f", DC {float(rec['DC_percent']):.1f} %" if rec["DC_percent"] != "" else ""
+        why = f": {rec['reason']}" if rec["reason"] else ""
+        print(f"{rec['name']}: {rec['status']}{dc}{why}")
+    print(f"results in {out / 'results.csv'}")
+
+
+def _finish(out: Path, quiet: bool) -> int:
+    """ensemble.json and report.html of the finished sweep; the exit code."""
+    from drape.batch.ensemble import describe_ensemble, ensembles, write_ensembles
+    from drape.batch.report import write_report
+
+    try:
+        if write_ensembles(out) is not None and not quiet:
+            print("\n".join(describe_ensemble(e) for e in ensembles(out)))
+        report = write_report(out)
+    except Exception as exc:  # the runs and results.csv are done; the page can be made again
+        print(f"report.html not written ({_one_line(exc)}); try python -m drape.report {out}",
+              file=sys.stderr)
+        return EXIT_OK
+    if not quiet:
+        print(f"report in {report}")
+    return EXIT_OK
+
+
+if __name__ == "__main__":
+    # run the imported module's main, not this copy's: under ``python -m`` this file is
+    # loaded twice, and only the imported copy's SweepError is the one the layers raise
+    from drape.batch.sweep import main as _main
+
+    sys.exit(_main())

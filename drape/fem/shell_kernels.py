@@ -1,0 +1,563 @@
+"""Compiled element kernels of the Kirchhoff–Love shell: kinematics, internal force, tangent.
+
+The shell's residual and tangent are sums over triangles of quadrature-point terms
+that only involve the element's displacement, the scalar basis gradients ``N_b,α``
+and Voigt Hessians ``N_b,v`` (:mod:`drape.fem.kinematics`). Every first variation at a
+point has the form
+
+    δ[b, k] = Σ_s φ_s[b] c_s[k],      φ = (N_b,1, N_b,2, N_b,11, N_b,22, 2 N_b,12),
+
+with a (5, 3) coefficient ``c`` (e.g. ``∂κ_v/∂u_bk = N_b,v n_k + N_b,1 (a2 × p_v)_k
++ N_b,2 (p_v × a1)_k``), and every term of the tangent the form
+``Σ_st φ_s[b] φ_t[c] Z[s, k, t, l]``. A point's whole contribution to the 63 × 63 element
+tangent is therefore a 15 × 15 block ``Z`` (stored (5, 3, 5, 3)) contracted twice with ``φ``:
+once per point, then over all points of a triangle in one matrix product, a fraction of the
+cost of dense rank updates of the per-dof variations. The per-point contraction runs
+innermost over the element's basis functions, contiguous in memory, so that it vectorises
+(13–19 % less time per tangent than with the sum over ``t`` innermost, BENCHMARKS.md);
+the element matrix then comes out as ``Jf[b, k, l, c]`` and the scatter reads it in that
+order. The laws' viscous and curvature-inertia matrices ``∫ ∂κᵀ d ∂κ`` have the same form
+as the bending material term, so they join it as one rank-one update per curvature, and the
+kernel assembles the one matrix a Newmark step factorises, ``c_K K + c_C C_law + c_M M_law``,
+in that same product.
+
+The kernels run in parallel over the triangles of one colour of a colouring in which no
+two triangles of a colour share a dof, so each triangle scatters its tangent into the
+CSR data of the fixed pattern (:class:`drape.fem.assembly.SparsityPattern`) through a
+precomputed element-to-CSR map without write conflicts.
+
+The bending laws stay outside: the kernels take the moments ``M``, their tangents
+``D`` and the membrane forces at the quadrature points, which the caller evaluates
+from :func:`kinematics`'s strain and curvature.
+
+The kernels are compiled once per install and cached on disk (:mod:`drape.fem.compiled`). They run on
+``NUMBA_NUM_THREADS`` threads (default: every core) on meshes of at least
+:data:`PARALLEL_MIN_ELEMENTS` elements, on one below; set it to 1 where each core
+already runs its own process.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+import numba
+from numba import prange
+
+from drape.fem.compiled import njit
+
+__all__ = ["element_colours", "kinematics", "curvature_rate", "internal_force", "tangent"]
+
+
+#: Below this many elements a kernel runs on one thread: waking the thread pool costs more than
+#: the work it would share, and on a busy machine a thread waiting for a core stalls the call.
+PARALLEL_MIN_ELEMENTS = 256
+
+
+def use_threads(n_elements: int) -> None:
+    """Let the next kernel calls of this thread use every numba thread, or one for a small mesh."""
+    numba.set_num_threads(numba.config.NUMBA_NUM_THREADS if n_elements >= PARALLEL_MIN_ELEMENTS else 1)
+
+
+def element_colours(element_dofs):
+    """Greedy colouring of elements such that no two of a colour share a dof.
+
+    Parameters
+    ----------
+    element_dofs : ndarray of int, shape (E, nb)
+
+    Returns
+    -------
+    order : ndarray of int, shape (E,)
+        Elements sorted by colour.
+    start : ndarray of int, shape (n_colours + 1,)
+        ``order[start[c]:start[c + 1]]`` are the elements of colour ``c``.
+
+    Examples
+    --------
+    >>> order, start = element_colours(np.array([[0, 1], [1, 2], [3, 4]]))
+    >>> [sorted(order[start[c]:start[c + 1]].tolist()) for c in range(len(start) - 1)]
+    [[0, 2], [1]]
+    """
+    element_dofs = np.asarray(element_dofs)
+    E = len(element_dofs)
+    incidence = sp.csr_matrix((np.ones(element_dofs.size), element_dofs.ravel(),
+                               np.arange(0, element_dofs.size + 1, element_dofs.shape[1])))
+    adjacency = (incidence @ incidence.T).tocsr()
+    colour = np.full(E, -1, dtype=np.int64)
+    for e in range(E):
+        taken = colour[adjacency.indices[adjacency.indptr[e]:adjacency.indptr[e + 1]]]
+        free = np.ones(len(taken) + 1, dtype=bool)
+        free[taken[(taken >= 0) & (taken < len(free))]] = False
+        colour[e] = int(np.argmax(free))
+    order = np.argsort(colour, kind="stable")
+    start = np.searchsorted(colour[order], np.arange(colour.max() + 2))
+    return order.astype(np.int64), start.astype(np.int64)
+
+
+@njit(cache=True, inline="always")
+def _cross(x, y, out):
+    out[0] = x[1] * y[2] - x[2] * y[1]
+    out[1] = x[2] * y[0] - x[0] * y[2]
+    out[2] = x[0] * y[1] - x[1] * y[0]
+
+
+@njit(cache=True)
+def _point(dN, HN, ue, a, h, n):
+    """Base vectors ``a`` (2, 3), Voigt ``u_,v`` + reference ``h`` (3, 3) and unit normal
+    ``n`` at one point; returns the area stretch ``j``. ``a`` holds ``g_α = u_,α`` on
+    return of the first loop and ``e_α + g_α`` at the end."""
+    nb = dN.shape[0]
+    a[:] = 0.0
+    h[:] = 0.0
+    for b in range(nb):
+        for k in range(3):
+            x = ue[b, k]
+            a[0, k] += dN[b, 0] * x
+            a[1, k] += dN[b, 1] * x
+            h[0, k] += HN[b, 0] * x
+            h[1, k] += HN[b, 1] * x
+            h[2, k] += HN[b, 2] * x
+    a[0, 0] += 1.0
+    a[1, 1] += 1.0
+    _cross(a[0], a[1], n)
+    j = np.sqrt(n[0] ** 2 + n[1] ** 2 + n[2] ** 2)
+    for k in range(3):
+        n[k] /= j
+    return j
+
+
+@njit(cache=True, parallel=True)
+def kinematics(ue, dN, HN, strain, kappa):
+    """Membrane strain and curvature (Voigt) at every quadrature point.
+
+    Parameters
+    ----------
+    ue : (E, nb, 3) element displacement coefficients
+    dN : (E, q, nb, 2), HN : (E, q, nb, 3) basis gradients and Voigt Hessians
+    strain, kappa : (E, q, 3) outputs, ``(E11, E22, 2 E12)`` and ``(κ11, κ22, 2 κ12)``
+    """
+    E, nq = dN.shape[0], dN.shape[1]
+    for e in prange(E):
+        a = np.empty((2, 3))
+        h = np.empty((3, 3))
+        n = np.empty(3)
+        for q in range(nq):
+            _point(dN[e, q], HN[e, q], ue[e], a, h, n)
+            # from g_α = a_α − e_α: no cancellation in a_α · a_α − 1
+            g00, g11 = a[0, 0] - 1.0, a[1, 1] - 1.0
+            gg00 = g00 * g00 + a[0, 1] ** 2 + a[0, 2] ** 2
+            gg11 = a[1, 0] ** 2 + g11 * g11 + a[1, 2] ** 2
+            gg01 = g00 * a[1, 0] + a[0, 1] * g11 + a[0, 2] * a[1, 2]
+            strain[e, q, 0] = g00 + 0.5 * gg00
+            strain[e, q, 1] = g11 + 0.5 * gg11
+            strain[e, q, 2] = a[0, 1] + a[1, 0] + gg01
+            for v in range(3):
+                kappa[e, q, v] = h[v, 0] * n[0] + h[v, 1] * n[1] + h[v, 2] * n[2]
+
+
+@njit(cache=True)
+def _variations(a, h, n, j, cde, cdk, p, t):
+    """Coefficients (5, 3) of ``∂ε_v`` and ``∂κ_v`` (v = 0..2) at a point, and
+    ``p_v = (I − n n) h_v / j``; ``t`` is a 3-vector of scratch."""
+    cde[:] = 0.0
+    cdk[:] = 0.0
+    for k in range(3):
+        cde[0, 0, k] = a[0, k]
+        cde[1, 1, k] = a[1, k]
+        cde[2, 0, k] = a[1, k]
+        cde[2, 1, k] = a[0, k]
+    for v in range(3):
+        hn = h[v, 0] * n[0] + h[v, 1] * n[1] + h[v, 2] * n[2]
+        for k in range(3):
+            p[v, k] = (h[v, k] - hn * n[k]) / j
+        _cross(a[1], p[v], t)
+        cdk[v, 0] = t
+        _cross(p[v], a[0], t)
+        cdk[v, 1] = t
+        cdk[v, 2 + v] = n
+
+
+@njit(cache=True)
+def _phi(dN, HN, phi):
+    for b in range(dN.shape[0]):
+        phi[0, b] = dN[b, 0]
+        phi[1, b] = dN[b, 1]
+        phi[2, b] = HN[b, 0]
+        phi[3, b] = HN[b, 1]
+        phi[4, b] = HN[b, 2]
+
+
+@njit(cache=True)
+def _add_per_dof(scale, phi, c, out):
+    """``out[b, k] += scale Σ_s φ_s[b] c_s[k]``: a (5, 3) coefficient as per-dof values."""
+    for b in range(phi.shape[1]):
+        for k in range(3):
+            acc = 0.0
+            for s in range(5):
+                acc += phi[s, b] * c[s, k]
+            out[b, k] += scale * acc
+
+
+@njit(cache=True)
+def _kappa_rate(dN, HN, x, a, h, n, j, ad, hd, a3d, nd, kdot):
+    """Rates at a point of the field ``x`` (E-local coefficients (nb, 3)): ``ȧ_α`` into
+    ``ad``, ``ḣ_v`` into ``hd``, ``ȧ3`` into ``a3d``, ``ṅ`` into ``nd`` and the curvature rate
+    ``κ̇_v = ḣ_v · n + h_v · ṅ`` into ``kdot``; returns ``n · ȧ3``."""
+    nb = dN.shape[0]
+    ad[:] = 0.0
+    hd[:] = 0.0
+    for b in range(nb):
+        for k in range(3):
+            ad[0, k] += dN[b, 0] * x[b, k]
+            ad[1, k] += dN[b, 1] * x[b, k]
+            for v in range(3):
+                hd[v, k] += HN[b, v] * x[b, k]
+    # ȧ3 = ȧ1 × a2 + a1 × ȧ2, built in place from its two cross products
+    a3d[0] = ad[0, 1] * a[1, 2] - ad[0, 2] * a[1, 1] + a[0, 1] * ad[1, 2] - a[0, 2] * ad[1, 1]
+    a3d[1] = ad[0, 2] * a[1, 0] - ad[0, 0] * a[1, 2] + a[0, 2] * ad[1, 0] - a[0, 0] * ad[1, 2]
+    a3d[2] = ad[0, 0] * a[1, 1] - ad[0, 1] * a[1, 0] + a[0, 0] * ad[1, 1] - a[0, 1] * ad[1, 0]
+    na3 = n[0] * a3d[0] + n[1] * a3d[1] + n[2] * a3d[2]
+    for k in range(3):
+        nd[k] = (a3d[k] - na3 * n[k]) / j
+    for v in range(3):
+        kdot[v] = (hd[v, 0] * n[0] + hd[v, 1] * n[1] + hd[v, 2] * n[2]
+                   + h[v, 0] * nd[0] + h[v, 1] * nd[1] + h[v, 2] * nd[2])
+    return na3
+
+
+@njit(cache=True, parallel=True)
+def internal_force(ue, xe, dN, HN, w, Nm, M, c, fe):
+    """Element internal forces ``∫ ∂εᵀ N + ∂κᵀ (M + c κ̇)``, (E, 3 nb) into ``fe``.
+
+    ``Nm`` (E, q, 3) membrane forces, ``M`` (E, q, 3) moments (Voigt), ``c`` (2,) the
+    coefficients (warp, weft) of the curvature rate of the element field ``xe`` (the laws'
+    viscosity with the velocity; skipped where both are 0).
+    """
+    E, nq, nb = dN.shape[0], dN.shape[1], dN.shape[2]
+    rates = c[0] != 0.0 or c[1] != 0.0
+    for e in prange(E):
+        a = np.empty((2, 3))
+        h = np.empty((3, 3))
+        n = np.empty(3)
+        p = np.empty((3, 3))
+        cde = np.empty((3, 5, 3))
+        cdk = np.empty((3, 5, 3))
+        F = np.empty((5, 3))
+        phi = np.empty((5, nb))
+        t = np.empty(3)
+        work = np.empty((8, 3))
+        Mq = np.empty(3)
+        fe[e] = 0.0
+        for q in range(nq):
+            j = _point(dN[e, q], HN[e, q], ue[e], a, h, n)
+            _variations(a, h, n, j, cde, cdk, p, t)
+            _phi(dN[e, q], HN[e, q], phi)
+            for v in range(3):
+                Mq[v] = M[e, q, v]
+            if rates:
+                _kappa_rate(dN[e, q], HN[e, q], xe[e], a, h, n, j, work[0:2], work[2:5], work[5],
+                            work[6], work[7])
+                Mq[0] += c[0] * work[7, 0]
+                Mq[1] += c[1] * work[7, 1]
+            F[:] = 0.0
+            for v in range(3):
+                for s in range(5):
+                    for k in range(3):
+                        F[s, k] += Nm[e, q, v] * cde[v, s, k] + Mq[v] * cdk[v, s, k]
+            _add_per_dof(w[e, q], phi, F, fe[e].reshape(nb, 3))
+
+
+@njit(cache=True)
+def _rate(dN, HN, x, a, h, n, j, p, visc_v, wq, cdk, Mg, Z, work):
+    """Curvature rate of the field ``x`` and, with ``visc_v`` = (c_warp, c_weft), the
+    moments ``c κ̇`` added to ``Mg`` and ``w c ∂κ ⊗ ∂κ̇/∂u`` added to ``Z``; ``work`` is
+    (16, 3) scratch."""
+    ad, hd, a3d, nd, kd, y, t1, t2, cg = (work[0:2], work[2:5], work[5], work[6], work[7], work[8],
+                                          work[9], work[10], work[11:16])
+    na3 = _kappa_rate(dN, HN, x, a, h, n, j, ad, hd, a3d, nd, kd)
+    for v in range(2):
+        if visc_v[v] == 0.0:
+            continue
+        hn = h[v, 0] * n[0] + h[v, 1] * n[1] + h[v, 2] * n[2]
+        ha3 = h[v, 0] * a3d[0] + h[v, 1] * a3d[1] + h[v, 2] * a3d[2]
+        hdn = hd[v, 0] * n[0] + hd[v, 1] * n[1] + hd[v, 2] * n[2]
+        Mg[v] += visc_v[v] * kd[v]
+        # ∂κ̇_v/∂u = h_v · ∂²n [∂u, ẋ] + ḣ_v · ∂n + ∂h_v · ṅ: every ∂a3 term is one vector y
+        for k in range(3):
+            y[k] = ((-na3 * h[v, k] - ha3 * n[k] - hn * a3d[k] + 3.0 * hn * na3 * n[k]) / (j * j)
+                    + (hd[v, k] - hdn * n[k]) / j)
+        cg[:] = 0.0
+        _cross(a[1], y, t1)
+        _cross(ad[1], p[v], t2)
+        for k in range(3):
+            cg[0, k] = t1[k] + t2[k]
+        _cross(y, a[0], t1)
+        _cross(p[v], ad[0], t2)
+        for k in range(3):
+            cg[1, k] = t1[k] + t2[k]
+            cg[2 + v, k] = nd[k]
+        _outer_add(wq * visc_v[v], cdk[v], cg, Z)
+
+
+@njit(cache=True)
+def _half(Z, phi, Wrow):
+    """``Wrow[s, k, l, c] = Σ_t Z[s, k, t, l] φ_t[c]``, contiguous in ``c`` (it vectorises)."""
+    nb = phi.shape[1]
+    for s in range(5):
+        for k in range(3):
+            for l in range(3):
+                z0, z1, z2 = Z[s, k, 0, l], Z[s, k, 1, l], Z[s, k, 2, l]
+                z3, z4 = Z[s, k, 3, l], Z[s, k, 4, l]
+                for c in range(nb):
+                    Wrow[s, k, l, c] = (z0 * phi[0, c] + z1 * phi[1, c] + z2 * phi[2, c]
+                                        + z3 * phi[3, c] + z4 * phi[4, c])
+
+
+@njit(cache=True)
+def _outer_add(scale, x, y, Z):
+    """``Z[s, k, t, l] += scale x[s, k] y[t, l]``, on ``Z`` as a 15 × 15 matrix."""
+    for s in range(5):
+        for k in range(3):
+            xs = scale * x[s, k]
+            if xs == 0.0:
+                continue
+            for t in range(5):
+                for l in range(3):
+                    Z[s, k, t, l] += xs * y[t, l]
+
+
+@njit(cache=True, parallel=True)
+def tangent(ue, ve, ae, dN, HN, w, Q, C_m, Nm, M, D, visc, weights, order, start, csr_map,
+            fe, Jd, symmetrize=False):
+    """Element internal force and the weighted tangent ``c_K K + c_C C_law + c_M M_law``,
+    scattered into CSR data.
+
+    A Newmark step needs only this sum, so the laws' viscous and curvature-inertia matrices
+    ``∫ ∂κᵀ (c_C d + c_M m) ∂κ`` join the bending material term ``∫ ∂κᵀ D ∂κ`` point by
+    point: they cost no element matrix product of their own and no scatter.
+
+    Parameters
+    ----------
+    ue, ve, ae : (E, nb, 3)
+        Element displacement, velocity and acceleration coefficients.
+    dN, HN, w : basis gradients (E, q, nb, 2), Voigt Hessians (E, q, nb, 3), weights (E, q).
+    Q : (q, q)
+        Assumed-strain operator (identity for the consistent strain).
+    C_m : (3, 3) membrane stiffness.
+    Nm, M : (E, q, 3)
+        Membrane forces ``C_m Q ε`` and the law's Voigt moments.
+    D : (E, q, 3, 3)
+        The law's tangent ``dM_v/dκ_x`` (Voigt).
+    visc : (2, 2)
+        ``[[d_warp, d_weft], [m_warp, m_weft]]``: the laws' viscosity and curvature inertia.
+    weights : (3,)
+        ``(c_K, c_C, c_M)``.
+    order, start : element colouring (:func:`element_colours`).
+    csr_map : (E, 3 nb, 3 nb) int
+        Position of every element-matrix entry in the CSR data.
+    fe : (E, 3 nb) output
+        Element forces ``∫ ∂εᵀ N + ∂κᵀ (M + d κ̇)``: the laws' viscous moment is a force,
+        their curvature inertia ``m κ̈`` is not (it belongs to the inertia).
+    Jd : (nnz,)
+        CSR data the weighted tangent is added to. ``K = ∂f/∂u`` is material + geometric +
+        the configuration dependence of ``d κ̇ + m κ̈``; ``C_law = d ∫ ∂κᵀ∂κ``,
+        ``M_law = m ∫ ∂κᵀ∂κ``.
+    symmetrize : bool
+        Scatter the symmetric part of each element's matrix (only K's rate terms are
+        unsymmetric).
+    """
+    nq, nb = dN.shape[1], dN.shape[2]
+    cK, cC, cM = weights[0], weights[1], weights[2]
+    has_c = visc[0, 0] != 0.0 or visc[0, 1] != 0.0
+    has_m = visc[1, 0] != 0.0 or visc[1, 1] != 0.0
+    for colour in range(len(start) - 1):
+        for i in prange(start[colour], start[colour + 1]):
+            e = order[i]
+            a = np.empty((nq, 2, 3))
+            h = np.empty((nq, 3, 3))
+            n = np.empty((nq, 3))
+            jq = np.empty(nq)
+            # membrane: ∂ε at every point first, the assumed strain couples the points
+            de = np.zeros((nq, 3, nb, 3))
+            for q in range(nq):
+                jq[q] = _point(dN[e, q], HN[e, q], ue[e], a[q], h[q], n[q])
+                for b in range(nb):
+                    for k in range(3):
+                        de[q, 0, b, k] = dN[e, q, b, 0] * a[q, 0, k]
+                        de[q, 1, b, k] = dN[e, q, b, 1] * a[q, 1, k]
+                        de[q, 2, b, k] = dN[e, q, b, 0] * a[q, 1, k] + dN[e, q, b, 1] * a[q, 0, k]
+            # the assumed strain Σ_r Q_qr ∂ε_r at every point, as one matrix product
+            Qde = np.dot(Q, de.reshape(nq, 9 * nb)).reshape(nq, 3, nb, 3)
+            # Σ_q Σ_s φ_qs[b] W_q[s, k, l, c] as one matrix product over (q, s)
+            Phi = np.empty((nb, 5 * nq))
+            Wall = np.empty((5 * nq, 3, 3, nb))   # every entry set by _half
+            Z = np.empty((5, 3, 5, 3))
+            p = np.empty((3, 3))
+            cde = np.empty((3, 5, 3))
+            cdk = np.empty((3, 5, 3))
+            phi = np.empty((5, nb))
+            CQde = np.empty((3, 3, nb))
+            E0 = np.empty((3, 3))
+            E1 = np.empty((3, 3))
+            Pm = np.empty((3, 3))
+            cAn = np.zeros((5, 3))
+            cAm = np.zeros((5, 3))
+            ca3 = np.zeros((3, 5, 3))
+            ek = np.empty(3)
+            t = np.empty(3)
+            m = np.empty(3)
+            pm = np.empty(3)
+            Mg = np.empty(3)
+            Mf = np.empty(3)
+            F = np.empty((5, 3))
+            t3 = np.empty(3)
+            work = np.empty((16, 3))
+            fe[e] = 0.0
+            for q in range(nq):
+                j = jq[q]
+                wq = w[e, q]
+                _variations(a[q], h[q], n[q], j, cde, cdk, p, t3)
+                _phi(dN[e, q], HN[e, q], phi)
+                Wrow = Wall[5 * q:5 * q + 5]
+                for s in range(5):
+                    for b in range(nb):
+                        Phi[b, 5 * q + s] = phi[s, b]
+                # ---- moments: the law's, + d κ̇ (the force's), + m κ̈ (the geometric term's);
+                # with them ∂κ ⊗ ∂(d κ̇ + m κ̈)/∂u into Z
+                Z[:] = 0.0
+                for v in range(3):
+                    Mg[v] = M[e, q, v]
+                if has_c:
+                    _rate(dN[e, q], HN[e, q], ve[e], a[q], h[q], n[q], j, p,
+                          visc[0], wq, cdk, Mg, Z, work)
+                for v in range(3):
+                    Mf[v] = Mg[v]
+                if has_m:
+                    _rate(dN[e, q], HN[e, q], ae[e], a[q], h[q], n[q], j, p,
+                          visc[1], wq, cdk, Mg, Z, work)
+                # ---- force
+                F[:] = 0.0
+                for v in range(3):
+                    for s in range(5):
+                        for k in range(3):
+                            F[s, k] += Nm[e, q, v] * cde[v, s, k] + Mf[v] * cdk[v, s, k]
+                _add_per_dof(wq, phi, F, fe[e].reshape(nb, 3))
+                # ---- membrane geometric part N_v ∂²ε_v (identity in k, l)
+                S00, S11, S01 = wq * Nm[e, q, 0], wq * Nm[e, q, 1], wq * Nm[e, q, 2]
+                for k in range(3):
+                    Z[0, k, 0, k] += S00
+                    Z[1, k, 1, k] += S11
+                    Z[0, k, 1, k] += S01
+                    Z[1, k, 0, k] += S01
+                # ---- bending geometric part Σ_v M_v ∂²κ_v
+                for k in range(3):
+                    m[k] = wq * (Mg[0] * h[q, 0, k] + Mg[1] * h[q, 1, k] + Mg[2] * h[q, 2, k])
+                nq_ = n[q]
+                mn = m[0] * nq_[0] + m[1] * nq_[1] + m[2] * nq_[2]
+                sg = mn / (j * j)
+                for k in range(3):
+                    pm[k] = (m[k] - mn * nq_[k]) / j
+                # ∂a3_i/∂u_bk = N_b,1 (e_k × a2)_i + N_b,2 (a1 × e_k)_i
+                for k in range(3):
+                    ek[:] = 0.0
+                    ek[k] = 1.0
+                    _cross(ek, a[q, 1], t)
+                    E0[k] = t
+                    _cross(a[q, 0], ek, t)
+                    E1[k] = t
+                for i3 in range(3):
+                    for k in range(3):
+                        ca3[i3, 0, k] = E0[k, i3]
+                        ca3[i3, 1, k] = E1[k, i3]
+                for k in range(3):
+                    cAn[0, k] = E0[k, 0] * nq_[0] + E0[k, 1] * nq_[1] + E0[k, 2] * nq_[2]
+                    cAn[1, k] = E1[k, 0] * nq_[0] + E1[k, 1] * nq_[1] + E1[k, 2] * nq_[2]
+                    cAm[0, k] = (E0[k, 0] * m[0] + E0[k, 1] * m[1] + E0[k, 2] * m[2]) / (j * j)
+                    cAm[1, k] = (E1[k, 0] * m[0] + E1[k, 1] * m[1] + E1[k, 2] * m[2]) / (j * j)
+                # m · ∂²(a3/j) [∂a3, ∂a3]
+                for i3 in range(3):
+                    _outer_add(-sg, ca3[i3], ca3[i3], Z)
+                _outer_add(3.0 * sg, cAn, cAn, Z)
+                _outer_add(-1.0, cAm, cAn, Z)
+                _outer_add(-1.0, cAn, cAm, Z)
+                # (P m / j) · ∂²a3 = (N_b,1 N_c,2 − N_b,2 N_c,1) pm · (e_k × e_l)
+                for kl in range(3):
+                    k, l, i3 = kl, (kl + 1) % 3, (kl + 2) % 3
+                    Z[0, k, 1, l] += pm[i3]
+                    Z[0, l, 1, k] -= pm[i3]
+                    Z[1, k, 0, l] -= pm[i3]
+                    Z[1, l, 0, k] += pm[i3]
+                # N_b,v M_v (∂n/∂u_cl)_k and its transpose, ∂n = (I − n n) ∂a3 / j
+                for k in range(3):
+                    for i3 in range(3):
+                        Pm[k, i3] = ((1.0 if k == i3 else 0.0) - nq_[k] * nq_[i3]) / j
+                for v in range(3):
+                    mv = wq * Mg[v]
+                    if mv == 0.0:
+                        continue
+                    for k in range(3):
+                        for l in range(3):
+                            x0 = mv * (Pm[k, 0] * E0[l, 0] + Pm[k, 1] * E0[l, 1] + Pm[k, 2] * E0[l, 2])
+                            x1 = mv * (Pm[k, 0] * E1[l, 0] + Pm[k, 1] * E1[l, 1] + Pm[k, 2] * E1[l, 2])
+                            Z[2 + v, k, 0, l] += x0
+                            Z[2 + v, k, 1, l] += x1
+                            Z[0, l, 2 + v, k] += x0
+                            Z[1, l, 2 + v, k] += x1
+                # ---- weighted: c_K K, where the bending material part c_K D joins the laws'
+                # c_C d + c_M m on the warp and weft curvatures (one rank-one update per
+                # non-zero entry of D: three where the law is diagonal)
+                if cK != 1.0:
+                    Z *= cK
+                for v in range(3):
+                    for x in range(3):
+                        law = cK * D[e, q, v, x]
+                        if v == x and v < 2:
+                            law += cC * visc[0, v] + cM * visc[1, v]
+                        if law != 0.0:
+                            _outer_add(wq * law, cdk[v], cdk[x], Z)
+                _half(Z, phi, Wrow)
+                # ---- membrane material part: w_p ∂ε_pᵀ C_m Σ_q Q_pq ∂ε_q, as rows s = α
+                CQde[:] = 0.0
+                for v in range(3):
+                    for x in range(3):
+                        cvx = cK * wq * C_m[v, x]
+                        if cvx == 0.0:
+                            continue
+                        for b in range(nb):
+                            for k in range(3):
+                                CQde[v, k, b] += cvx * Qde[q, x, b, k]
+                for v in range(3):
+                    for s in range(2):
+                        for k in range(3):
+                            c = cde[v, s, k]
+                            if c == 0.0:
+                                continue
+                            for l in range(3):
+                                for b in range(nb):
+                                    Wrow[s, k, l, b] += c * CQde[v, l, b]
+            # Jf[b, k, l, c]: the element matrix's entry (3 b + k, 3 c + l)
+            Jf = np.dot(Phi, Wall.reshape(5 * nq, 9 * nb)).reshape(nb, 3, 3, nb)
+            for b in range(nb):
+                for k in range(3):
+                    I = 3 * b + k
+                    for c in range(nb):
+                        for l in range(3):
+                            x = Jf[b, k, l, c]
+                            if symmetrize:
+                                x = 0.5 * (x + Jf[c, l, k, b])
+                            Jd[csr_map[e, I, 3 * c + l]] += x
+
+
+@njit(cache=True, parallel=True)
+def curvature_rate(ue, xe, dN, HN, out):
+    """Curvature rate ``κ̇ = ∂κ/∂u · ẋ`` (Voigt, (E, q, 3)) of the element rate ``xe``."""
+    E, nq = dN.shape[0], dN.shape[1]
+    for e in prange(E):
+        a = np.empty((2, 3))
+        h = np.empty((3, 3))
+        n = np.empty(3)
+        work = np.empty((7, 3))
+        for q in range(nq):
+            j = _point(dN[e, q], HN[e, q], ue[e], a, h, n)
+            _kappa_rate(dN[e, q], HN[e, q], xe[e], a, h, n, j, work[0:2], work[2:5], work[5], work[6],
+                        out[e, q])

@@ -1,0 +1,273 @@
+"""Pictures of a finished (or stopped) run: ``python -m drape.inspect DIR``.
+
+Writes, into the run directory unless ``--out`` says otherwise,
+
+* ``<name>_<field>_<NNNN>.png``: the deformed fabric (reference mesh warped by ``displacement``)
+  coloured by a point or cell field, rendered off-screen with pyvista;
+* ``history.png``: energies, probe displacements and solver effort against time (matplotlib);
+* ``kes_loop.png``: the moment–curvature loop when the history has ``kappa`` and ``moment``.
+
+Examples
+--------
+>>> import tempfile, numpy as np
+>>> from skfem import MeshTri
+>>> from drape.run.output import OutputWriter
+>>> with tempfile.TemporaryDirectory() as d:
+...     w = OutputWriter(d, "demo", MeshTri())
+...     _ = w.write_step(0.0, {"displacement": np.zeros((4, 3)), "curvature_xx": np.ones(2)})
+...     w.append_history({"t": 0.0, "kinetic": 0.0, "strain": 0.0})
+...     w.close()
+...     fields, steps = available(d)
+...     fields, steps
+(['curvature_xx', 'displacement'], [0.0])
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from drape.run.output import read_pvd
+
+__all__ = ["find_pvd", "available", "render_step", "plot_history", "plot_kes_loop", "main"]
+
+
+class InspectError(ValueError):
+    """The directory does not hold what was asked for (no PVD, unknown field, step out of range)."""
+
+
+def find_pvd(directory) -> Path:
+    """The one ``.pvd`` collection in a run directory."""
+    directory = Path(directory)
+    if not directory.is_dir():
+        raise InspectError(f"{directory} is not a directory")
+    found = sorted(directory.glob("*.pvd"))
+    if len(found) != 1:
+        raise InspectError(
+            f"{directory}: expected one .pvd file, found {len(found)}"
+            + (f" ({', '.join(p.name for p in found)})" if found else "")
+        )
+    return found[0]
+
+
+def _read(path):
+    import pyvista
+
+    return pyvista.read(str(path))
+
+
+def available(directory) -> tuple[list[str], list[float]]:
+    """Field names of the last output step and the output times of the run."""
+    steps = read_pvd(find_pvd(directory))
+    if not steps:
+        raise InspectError(f"{directory}: the PVD lists no steps yet")
+    grid = _read(steps[-1][1])
+    names = sorted(set(grid.point_data.keys()) | set(grid.cell_data.keys()))
+    return names, [t for t, _ in steps]
+
+
+def _scalar(grid, field: str):
+    """(values, preference) of ``field``: vectors are shown by magnitude."""
+    if field in grid.point_data:
+        values = np.asarray(grid.point_data[field])
+        where = "point"
+    elif field in grid.cell_data:
+        values = np.asarray(grid.cell_data[field])
+        where = "cell"
+    else:
+        names = sorted(set(grid.point_data.keys()) | set(grid.cell_data.keys()))
+        raise InspectError(f"--field {field!r} is not in the output; available: {', '.join(names)}")
+    if values.ndim == 2:
+        values = np.linalg.norm(values, axis=1)
+    return values, where
+
+
+def default_field(names: list[str]) -> str:
+    """The field shown when none is asked for (first bending curvature, else displacement)."""
+    for name in ("curvature_xx", "moment_xx", "displacement"):
+        if name in names:
+            return name
+    return names[0]
+
+
+def render_step(directory, field: str | None = None, step: int = -1, out=None,
+                window_size=(1200, 800)) -> Path:
+    """PNG of output step ``step`` (index into the PVD, negative from the end) coloured by ``field``."""
+    import pyvista
+
+    directory = Path(directory)
+    pvd = find_pvd(directory)
+    steps = read_pvd(pvd)
+    if not steps:
+        raise InspectError(f"{directory}: the PVD lists no steps yet")
+    if not -len(steps) <= step < len(steps):
+        raise InspectError(f"--step {step} is out of range: the run has {len(steps)} output steps "
+                           f"(0..{len(steps) - 1}, or negative from the end)")
+    index = step % len(steps)
+    t, path = steps[index]
+    grid = _read(path)
+    names = sorted(set(grid.point_data.keys()) | set(grid.cell_data.keys()))
+    field = field or default_field(names)
+    values, where = _scalar(grid, field)
+    shown = grid.warp_by_vector("displacement") if "displacement" in grid.point_data else grid
+    raw = grid.point_data[field] if where == "point" else grid.cell_data[field]
+    label = f"|{field}|" if np.ndim(raw) == 2 else field
+    data = shown.point_data if where == "point" else shown.cell_data
+    data["shown"] = values
+    plotter = pyvista.Plotter(off_screen=True, window_size=list(window_size))
+    plotter.add_mesh(shown, scalars="shown", preference=where, show_edges=True, cmap="viridis",
+                     scalar_bar_args={"title": label})
+    plotter.add_mesh(grid.extract_feature_edges(boundary_edges=True, feature_edges=False,
+                                                manifold_edges=False),
+                     color="grey", opacity=0.4, line_width=1)   # reference outline
+    plotter.add_text(f"{pvd.stem}  t = {t:.4g} s  (step {index})", font_size=10)
+    plotter.add_axes()
+    plotter.view_isometric()
+    plotter.reset_camera()
+    out = Path(out) if out else directory / f"{pvd.stem}_{field}_{index:04d}.png"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    plotter.screenshot(str(out))
+    plotter.close()
+    return out
+
+
+def read_history(directory) -> dict[str, np.ndarray]:
+    """history.csv as columns of floats."""
+    path = Path(directory) / "history.csv"
+    if not path.is_file():
+        raise InspectError(f"{path} does not exist")
+    with open(path, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    if not rows:
+        raise InspectError(f"{path} has no rows")
+    return {k: np.array([float(r[k]) if r[k] not in ("", None) else np.nan for r in rows])
+            for k in rows[0]}
+
+
+def _run_name(directory) -> str:
+    import json
+
+    summary = Path(directory) / "summary.json"
+    try:
+        data = json.loads(summary.read_text())
+        return f"{data['case']}: {data['status']}"
+    except (OSError, ValueError, KeyError):
+        return Path(directory).resolve().name
+
+
+_ENERGY = ("kinetic", "strain", "bending", "membrane", "external_potential", "gravity_potential",
+           "friction_work", "damping_work", "total")
+
+
+def plot_history(directory, out=None) -> Path:
+    """Energies, probe displacements and solver effort against time, one PNG."""
+    from matplotlib.figure import Figure  # without pyplot: the caller's backend is left alone
+
+    h = read_history(directory)
+    t = h["t"]
+    probes = [k for k in h if k.startswith(("tip_", "centre_", "uz_"))]
+    fig = Figure(figsize=(8, 9))
+    axes = fig.subplots(3, 1, sharex=True)
+    for name in _ENERGY:
+        if name in h:
+            axes[0].plot(t, h[name], label=name)
+    axes[0].set_ylabel("energy [J]")
+    axes[0].legend(fontsize=7, ncol=3)
+    for name in probes:
+        axes[1].plot(t, 1e3 * h[name], label=name)
+    axes[1].set_ylabel("displacement [mm]")
+    if probes:
+        axes[1].legend(fontsize=7, ncol=3)
+    if "iterations" in h:
+        axes[2].plot(t, h["iterations"], ".", ms=3, label="Newton iterations")
+    axes[2].set_ylabel("iterations")
+    if "dt" in h:
+        ax = axes[2].twinx()
+        ax.semilogy(t[1:], h["dt"][1:], "r-", lw=0.8, label="dt")
+        ax.set_ylabel("dt [s]", color="r")
+    axes[2].set_xlabel("t [s]")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    fig.suptitle(_run_name(directory))
+    fig.tight_layout()
+    out = Path(out) if out else Path(directory) / "history.png"
+    fig.savefig(out, dpi=110)
+    return out
+
+
+def plot_kes_loop(directory, out=None) -> Path | None:
+    """Moment–curvature loop in KES units when history.csv has ``kappa`` and ``moment``."""
+    h = read_history(directory)
+    if "kappa" not in h or "moment" not in h:
+        return None
+    from matplotlib.figure import Figure
+
+    from constitutive.units import to_kes
+
+    fig = Figure(figsize=(6, 4.5))
+    ax = fig.subplots()
+    ax.plot(to_kes(h["kappa"], "curvature"), to_kes(h["moment"], "moment"), lw=1)
+    ax.set_xlabel("curvature K [cm⁻¹]")
+    ax.set_ylabel("moment M [gf·cm/cm]")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.axvline(0, color="k", lw=0.5)
+    ax.grid(alpha=0.3)
+    ax.set_title("simulated KES-FB loop")
+    fig.tight_layout()
+    out = Path(out) if out else Path(directory) / "kes_loop.png"
+    fig.savefig(out, dpi=110)
+    return out
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="python -m drape.inspect",
+        description="PNG pictures of a drape.run.runner output directory: the deformed fabric coloured "
+                    "by a field (pyvista, off-screen) and plots of history.csv (matplotlib).",
+        epilog="Example: python -m drape.inspect out/cantilever --field moment_xx --step -1",
+    )
+    p.add_argument("directory", help="run output directory (holds <name>.pvd and history.csv)")
+    p.add_argument("--field", help="point or cell field to colour by (default: curvature_xx); "
+                                   "vectors are shown by magnitude")
+    p.add_argument("--step", type=int, default=-1,
+                   help="output step index in the PVD (default -1: the last one)")
+    p.add_argument("--out", metavar="PNG", help="file for the 3-D picture (default: in DIRECTORY)")
+    p.add_argument("--list", action="store_true", help="print the fields and output times, and exit")
+    p.add_argument("--no-history", action="store_true", help="skip the history plots")
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command-line entry point; returns the exit code (:data:`drape.run.cli.EXIT_CODES`)."""
+    from drape.run.cli import EXIT_BAD_INPUT
+
+    args = _parser().parse_args(argv)
+    os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
+    try:
+        if args.list:
+            names, times = available(args.directory)
+            print("fields: " + ", ".join(names))
+            print(f"{len(times)} output steps, t = " + ", ".join(f"{t:.4g}" for t in times))
+            return 0
+        written = [render_step(args.directory, args.field, args.step, args.out)]
+        if not args.no_history:
+            written.append(plot_history(args.directory))
+            loop = plot_kes_loop(args.directory)
+            if loop is not None:
+                written.append(loop)
+    except InspectError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    for path in written:
+        print(path)
+    return 0
+
+
+if __name__ == "__main__":
+    from drape.run.pictures import main as _main   # the imported module's main: its classes are the ones raised
+
+    sys.exit(_main())
