@@ -10,7 +10,8 @@ import argparse
 import os
 import time
 
-from constitutive.fit import DEFAULT_ACCEL_TIME, all_thesis, format_all
+from constitutive.fit import DEFAULT_ACCEL_TIME
+from constitutive.fit.cli import all_thesis, format_all
 
 
 def main():

@@ -30,7 +30,7 @@ chosen from physics or the literature as stated:
     to nothing at the hem, and the factor also spans the sheets' spread of LT and EMT.
 ``shear_G12``  ``material.kes.G``, default G12 = 50 N/m (G ≈ 0.89 gf/(cm·deg)). Low
     G = 0.3 gf/(cm·deg) (G12 ≈ 17 N/m), high 2.7 gf/(cm·deg) (G12 ≈ 152 N/m): factor 3 either
-    way, inside the 0.2-5 gf/(cm·deg) of apparel fabrics (constitutive/kes_sheet.py). Folds
+    way, inside the 0.2-5 gf/(cm·deg) of apparel fabrics (constitutive/material/kes_sheet.py). Folds
     of a circular specimen need in-plane shear (a trellised weave), so G12 may set the node
     count.
 ``perturbation_amplitude``  ``load.perturbation.amplitude``, default 0.02 of the weight.

@@ -188,7 +188,7 @@ def test_shipped_case_files_validate(path):
 
 def test_schema_help_documents_every_key():
     text = describe_schema()
-    from constitutive.validation import model_class
+    from constitutive.schema_errors import model_class
     from drape.case import case as c
 
     for section in (c.SolverSpec, c.ModelSpec, c.StopSpec, c.OutputSpec, c.Gravity, c.KesDrive):

@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 from scipy.integrate import quad
 
-from constitutive.kes_sheet import KesFabricSpec, read_sheet_value
+from constitutive.material.kes_sheet import read_sheet_value
+from constitutive.material.spec import KesFabricSpec
 from constitutive.material import MaterialError, load_material
 from drape.case.build import build_material
 from drape.case.case import CaseError, load_case

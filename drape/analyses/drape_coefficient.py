@@ -267,7 +267,7 @@ def skirt_tension(weight: float, specimen_radius: float, disc_radius: float) -> 
     hem carries none, the disc's edge the whole overhang). Its mean over the annulus
     ``r_d < r < R`` is ``w (2R + r_d)(R − r_d) / (3 (R + r_d))``: the operating point on the
     fabric's tensile curve at which the shell's linear membrane is taken
-    (:mod:`constitutive.tensile`).
+    (:mod:`constitutive.material.tensile`).
 
     Parameters
     ----------

@@ -23,12 +23,13 @@ import json
 import sys
 from pathlib import Path
 
+from constitutive.bundled import cases_dir
 from drape.case.case import CaseError, load_case
 
 __all__ = ["ValidationSetError", "validation_cases", "run_validation", "comparison_table",
            "validation_figure", "main"]
 
-DEFAULT_DIR = Path(__file__).resolve().parents[1] / "cases" / "validation"
+DEFAULT_DIR = cases_dir("validation")
 
 
 class ValidationSetError(ValueError):

@@ -3,7 +3,7 @@
 A case file describes one simulation: the specimen mesh, the fabric, the structural model,
 the loads, the time integration, what to write and when to stop. The tables are defined in
 :mod:`drape.case.schema` and :mod:`drape.case.loads`; errors are worded by
-:func:`constitutive.validation.format_errors`, the ``--help-case`` text by
+:func:`constitutive.schema_errors.format_errors`, the ``--help-case`` text by
 :mod:`drape.case.help`. Every table rejects unknown keys. Numbers are SI (m, kg, s, N); any
 dimensional number may instead be written as a string with units, e.g. ``length = "5 cm"``
 or ``rate = "0.5 1/cm/s"``, converted with pint.
@@ -65,7 +65,7 @@ from pathlib import Path
 
 from pydantic import ValidationError, model_validator
 
-from constitutive.validation import format_errors
+from constitutive.schema_errors import format_errors
 from drape.case.loads import (Agitation, Amplitude, EndMoment, Gravity, KesDrive, LoadSpec,  # noqa: F401
                          Perturbation, Pressure)
 from drape.case.schema import (CaseInfo, CusickMesh, Damping, FileMesh, LawOverride,  # noqa: F401

@@ -45,7 +45,7 @@ bounds (e.g. a weight in g/m² below 100) cannot be told from a real fabric.
 * ``G12 = G · (g₀·10⁻³ N / 10⁻² m) · (180/π)`` — KES G is per degree of shear angle; the
   membrane's is per radian: 1 gf/(cm·deg) = 56.19 N/m.
 * Tensile curve per direction from the KES-FB1 values up to Fm: the power law of
-  :mod:`constitutive.tensile`, with strain εm = EMT/100 at Fm and linearity LT. Any two of
+  :mod:`constitutive.material.tensile`, with strain εm = EMT/100 at Fm and linearity LT. Any two of
   EMT, LT, WT give it (all three must agree within 10 %: a sheet rounds them); EMT alone
   takes the default LT = 0.65. Its linear stiffness storing the energy,
   ``E = 2 WT / εm² = LT · Fm / εm``, is E11 or E22 of the material; a drape case linearises
@@ -58,7 +58,7 @@ bounds (e.g. a weight in g/m² below 100) cannot be told from a real fabric.
 Where the sheet is silent the membrane keeps the project's defaults
 (:data:`constitutive.material.DEFAULT_MEMBRANE`: E11 = E22 = 1e4 N/m, G12 = 50 N/m, ν12 = 0;
 in sheet terms G ≈ 0.89 gf/(cm·deg), and the tensile curve
-:data:`constitutive.tensile.DEFAULT_TENSILE`, EMT ≈ 3.2 % at LT = 0.65: mid-range apparel
+:data:`constitutive.material.tensile.DEFAULT_TENSILE`, EMT ≈ 3.2 % at LT = 0.65: mid-range apparel
 values).
 """
 from __future__ import annotations
@@ -70,10 +70,10 @@ from typing import Annotated
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
-from constitutive.tensile import DEFAULT_LINEARITY, MAX_LOAD_KES, TensileCurve
+from constitutive.material.tensile import DEFAULT_LINEARITY, MAX_LOAD_KES, TensileCurve
 from constitutive.units import G0, parse_quantity, to_si, ureg
 
-__all__ = ["SHEET", "SheetKey", "read_sheet_value", "sheet_field", "KesSpec", "KesFabricSpec",
+__all__ = ["SHEET", "SheetKey", "read_sheet_value", "sheet_field", "KesSpec",
            "TENSILE_LOAD", "LT_TOLERANCE"]
 
 #: KES-FB1 standard maximum tensile load Fm [gf/cm].
@@ -345,29 +345,3 @@ class KesSpec(_Strict):
                                                          for k in _TENSILE for d in _DIRS)):
                 out[key] = to_si(value, kind)
         return out
-
-
-class KesFabricSpec(KesSpec):
-    """A fabric known from its KES-F sheet: B and 2HB per direction and the weight, optionally
-    thickness, shear (G, 2HG, 2HG5) and tensile values (EMT, LT, WT or E per direction). Every
-    value is a bare number in the unit a KES sheet prints (B gf·cm²/cm, 2HB gf·cm/cm,
-    W mg/cm², T mm, G gf/(cm·deg), 2HG gf/cm, EMT %, WT gf·cm/cm²) or a string with units
-    (``weight = "12.38 mg/cm^2"``); values outside the range of woven and knitted fabrics are
-    refused, naming the likely unit slip. Bending: :func:`material_from_kes` (k3 = d = 0,
-    friction calibrated so that the simulated KES-FB loop gives exactly B and 2HB: first
-    order, or second order with ``f2_ratio`` > 0); membrane: from G and the tensile values where given, else E11 = E22 = 1e4 N/m,
-    G12 = 50 N/m (summary.json says which)."""
-
-    weight: sheet_field("weight", description="Fabric weight W [mg/cm²] (areal mass "
-                                              "= W/100 kg/m²).")
-    thickness: sheet_field("thickness", None, "Thickness T [mm] (recorded; the models do not "
-                                              "use it).")
-
-    def material_spec(self, name: str, description: str = "", source: str = ""):
-        """The same fabric as a material file's tables (:class:`constitutive.material.MaterialSpec`)."""
-        from constitutive.material import MaterialSpec
-
-        k = self.model_dump(exclude_none=True)
-        weight, thickness = k.pop("weight"), k.pop("thickness", None)
-        return MaterialSpec(name=name, description=description, source=source, weight=weight,
-                            thickness=thickness, kes=KesSpec(**k))
