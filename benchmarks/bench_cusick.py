@@ -83,7 +83,7 @@ def _run(args):
     return a compact record from its summary.json."""
     label, case_file, overrides, out, code = args
     code = Path(code or ROOT)
-    cmd = [sys.executable, "-m", "drape.run.runner", str(code / case_file), "--out", str(Path(out).resolve()), "--quiet"]
+    cmd = [sys.executable, "-m", "drape.run", str(code / case_file), "--out", str(Path(out).resolve()), "--quiet"]
     for o in overrides:
         cmd += ["--set", o]
     env = {**os.environ, "PYTHONPATH": str(code)}

@@ -3,7 +3,7 @@
 Integrates ``cases/cusick_fabric1.toml`` to ``--start`` once, then the window up to ``--end``
 once per variant, from the same state, and prints steps, Newton iterations, force evaluations,
 factorisations, failed attempts and wall time. A variant is a comma-separated list of
-``key=value`` for :func:`drape.solvers.newmark.integrate` (``predictor``, ``error_tolerance``) or
+``key=value`` for :func:`drape.solvers.time_stepping.integrate` (``predictor``, ``error_tolerance``) or
 :class:`drape.solvers.newton.NewtonPolicy` (``lambda_min``, ``jump_ratio``, ``kink_steps``,
 ``kink_growth``)::
 
@@ -48,7 +48,7 @@ def main(argv=None) -> int:
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="case override")
     args = p.parse_args(argv)
     sys.path.insert(0, str(ROOT))
-    from drape.solvers import newmark
+    from drape.solvers import newmark, time_stepping
     from drape.case.build import build, initial_fields, solver_options
     from drape.case.case import load_case
 
@@ -57,7 +57,7 @@ def main(argv=None) -> int:
     s = case.solver
     steps = dict(beta=s.newmark_beta, gamma=s.newmark_gamma, alpha_hht=s.alpha_hht)
     start = newmark.initial_state(model, *initial_fields(case, model))
-    start = newmark.integrate(model, args.start, s.dt, state=start, **steps, **solver_options(case, model))
+    start = time_stepping.integrate(model, args.start, s.dt, state=start, **steps, **solver_options(case, model))
     saved = model.state_dict()
     for text in args.variants:
         kw = parse_variant(text)
@@ -67,7 +67,7 @@ def main(argv=None) -> int:
         options["policy"] = dataclasses.replace(options["policy"], **policy)
         rows = []
         t0 = time.perf_counter()
-        newmark.integrate(model, args.end, s.dt, state=copy.deepcopy(start), **steps, **options, **kw,
+        time_stepping.integrate(model, args.end, s.dt, state=copy.deepcopy(start), **steps, **options, **kw,
                           on_step=lambda st, i: rows.append((i.iterations, i.evaluations, i.factorizations, i.cuts)))
         wall = time.perf_counter() - t0
         it, ev, fa, cuts = np.sum(rows, axis=0)

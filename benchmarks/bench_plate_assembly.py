@@ -60,7 +60,7 @@ def time_newmark(n: int, element: str, steps: int = 20, dt: float = 2e-3) -> Non
     symmetric (upper triangle) and general."""
     from constitutive.material import load_material
     from drape.solvers.linear import DirectSolver, pardiso_available
-    from drape.solvers.newmark import integrate
+    from drape.solvers.time_stepping import integrate
 
     mat = load_material("fabric1")
     mesh = skfem.MeshTri.init_tensor(np.linspace(0, 0.1, n + 1), np.linspace(0, 0.1, n + 1))

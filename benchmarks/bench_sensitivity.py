@@ -185,7 +185,8 @@ def main(argv: list[str] | None = None) -> int:
     """Command-line entry point; returns the exit code."""
     from drape.case.case import CaseError, load_case
     from drape.batch.sensitivity import markdown_table, factor_sentences
-    from drape.batch.sweep import SweepError, add_batch_options
+    from drape.batch.rows import SweepError
+    from drape.batch.sweep_cli import add_batch_options
     from drape.run.termination import sigterm_raises, stopped
 
     p = argparse.ArgumentParser(

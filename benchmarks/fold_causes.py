@@ -39,7 +39,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from drape.batch.ensemble import ensemble_stats  # noqa: E402
-from drape.batch.sweep import SweepRow, read_results, run_sweep  # noqa: E402
+from drape.batch.rows import SweepRow, read_results
+from drape.batch.sweep import run_sweep  # noqa: E402
 
 PER_DIRECTION = ["model.bending_friction=per_direction"]
 

@@ -41,7 +41,7 @@ TINY = ["mesh.n_radial=2", "mesh.n_circumferential=24", "solver.t_end=0.05"]
 
 def rows_for(lobes, amplitude):
     """One sweep row per imposed fold count and friction setting."""
-    from drape.batch.sweep import SweepRow
+    from drape.batch.rows import SweepRow
 
     rows = []
     for n in lobes:
@@ -143,7 +143,8 @@ def main(argv=None) -> int:
     p.add_argument("--tiny", action="store_true", help="coarse and short: checks the plumbing only")
     args = p.parse_args(argv)
     sys.path.insert(0, str(ROOT))
-    from drape.batch.sweep import SweepError, read_results, run_sweep
+    from drape.batch.rows import SweepError, read_results
+    from drape.batch.sweep import run_sweep
 
     try:
         lobes = [int(v) for v in args.lobes.split(",")]

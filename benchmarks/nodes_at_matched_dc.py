@@ -35,7 +35,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from drape.batch.sweep import SweepRow, read_results, run_sweep  # noqa: E402
+from drape.batch.rows import SweepRow, read_results
+from drape.batch.sweep import run_sweep  # noqa: E402
 from fold_causes import fabric_keys  # noqa: E402
 
 LAWS = {"tensor": [], "per_direction": ["model.bending_friction=per_direction"]}

@@ -30,8 +30,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from constitutive.friction import (FrictionParams, FrictionState, ParameterError, _as_param, _check,
-                                     restored_array)
+from constitutive.friction import (
+    FrictionParams,
+    FrictionState,
+    ParameterError,
+    _as_param,
+    _check,
+    restored_array,
+)
 
 __all__ = ["BendingLaw", "BendingState", "FRICTION_TANGENTS", "check_friction_tangent"]
 

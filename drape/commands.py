@@ -25,7 +25,7 @@ __all__ = ["COMMANDS", "main"]
 #: Subcommand -> (module with ``main(argv)``, what it does).
 COMMANDS: dict[str, tuple[str, str]] = {
     "run": ("drape.run.runner", "run one case file (python -m drape.run)"),
-    "sweep": ("drape.batch.sweep", "a case over a run table, a grid or seeds (python -m drape.sweep)"),
+    "sweep": ("drape.batch.sweep_cli", "a case over a run table, a grid or seeds (python -m drape.sweep)"),
     "report": ("drape.batch.report", "report.html of a sweep or a run (python -m drape.report)"),
     "validate": ("drape.batch.validation_set",
                  "the validation cases against their measurements (python -m drape.validate)"),

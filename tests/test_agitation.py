@@ -11,7 +11,8 @@ from constitutive.units import G0
 from drape.case.build import build
 from drape.case.case import CaseError, parse_case
 from drape.case.loads import Agitation
-from drape.solvers.newmark import initial_state, integrate
+from drape.solvers.newmark import initial_state
+from drape.solvers.time_stepping import integrate
 
 LENGTH, A_G, FREQ, CYCLES = 0.05, 0.02, 1.0, 3
 

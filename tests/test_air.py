@@ -5,7 +5,8 @@ from skfem import MeshTri
 
 from drape.models.air import AIR_DENSITY
 from drape.fem.argyris import interpolate
-from drape.solvers.newmark import initial_state, integrate
+from drape.solvers.newmark import initial_state
+from drape.solvers.time_stepping import integrate
 from drape.models.shell import ElasticMaterial, KirchhoffLoveShell, ShellInputError
 
 CD = 1.2

@@ -57,7 +57,7 @@ def uninterrupted(tmp_path_factory) -> Path:
 
 
 def start_run(out: Path, overrides: list[str] = SMALL) -> subprocess.Popen:
-    cmd = [sys.executable, "-m", "drape.run.runner", str(CANTILEVER), "--out", str(out), "--quiet",
+    cmd = [sys.executable, "-m", "drape.run", str(CANTILEVER), "--out", str(out), "--quiet",
            *sum((["--set", o] for o in overrides), [])]
     return subprocess.Popen(cmd, cwd=ROOT, env=env_with_worktree(), stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
@@ -82,7 +82,7 @@ def signal_after(proc: subprocess.Popen, out: Path, rows: int, signum) -> tuple[
 
 
 def resume(out: Path) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "drape.run.runner", "--resume", str(out), "--quiet"],
+    return subprocess.run([sys.executable, "-m", "drape.run", "--resume", str(out), "--quiet"],
                           cwd=ROOT, env=env_with_worktree(), capture_output=True, text=True,
                           timeout=300)
 

@@ -14,7 +14,7 @@ import pytest
 from scipy.integrate import solve_bvp
 from skfem import MeshTri
 
-from drape.solvers.newmark import quasi_static
+from drape.solvers.static import quasi_static
 from drape.analyses.bending_length import shell_peirce_summary
 from constitutive.units import G0
 from drape.models.shell import ElasticMaterial, KirchhoffLoveShell

@@ -8,7 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from drape.batch import sweep
+from drape.batch import rows as sweep_rows
+from drape.batch import sweep_cli
 from drape.case.case import load_case
 from drape.batch.ensemble import SEED_KEY, ensemble_stats, seed_rows, seeded
 
@@ -17,20 +18,20 @@ CUSICK = ROOT / "cases" / "cusick_kes.toml"
 
 
 def test_each_row_is_repeated_per_seed_and_grouped_by_its_name():
-    rows = seed_rows([sweep.SweepRow("wool", {"mesh.refine": "1"}, {"measured.DC": "49.8"})], 3)
+    rows = seed_rows([sweep_rows.SweepRow("wool", {"mesh.refine": "1"}, {"measured.DC": "49.8"})], 3)
     assert [r.name for r in rows] == ["wool.s0", "wool.s1", "wool.s2"]
     assert [r.keys for r in rows] == [{"mesh.refine": "1", SEED_KEY: str(k)} for k in range(3)]
     assert {r.group for r in rows} == {"wool"} and rows[2].measured == {"measured.DC": "49.8"}
-    with pytest.raises(sweep.SweepError, match="sets load.perturbation.seed itself"):
-        seed_rows([sweep.SweepRow("x", {SEED_KEY: "4"})], 2)
-    with pytest.raises(sweep.SweepError, match="--seeds = 0: must be >= 1"):
+    with pytest.raises(sweep_rows.SweepError, match="sets load.perturbation.seed itself"):
+        seed_rows([sweep_rows.SweepRow("x", {SEED_KEY: "4"})], 2)
+    with pytest.raises(sweep_rows.SweepError, match="--seeds = 0: must be >= 1"):
         seed_rows(None, 0)
 
 
 def test_a_case_without_a_seeded_perturbation_has_no_ensemble():
-    with pytest.raises(sweep.SweepError, match="no seeded \\[load.perturbation\\]"):
+    with pytest.raises(sweep_rows.SweepError, match="no seeded \\[load.perturbation\\]"):
         seeded(ROOT / "cases" / "cantilever.toml", [], None, 3)
-    with pytest.raises(sweep.SweepError, match="no seeded"):
+    with pytest.raises(sweep_rows.SweepError, match="no seeded"):
         seeded(CUSICK, ["load.perturbation.kind='none'"], None, 3)
 
 
@@ -70,11 +71,11 @@ def test_a_tiny_cusick_ensemble_end_to_end(tmp_path, capsys, tiny_cusick):
     table.write_text("name,material.bending_scale,measured.DC,measured.nodes\nlimp,1,61.5,6\n"
                      "stiff,4,,\n")
     out = tmp_path / "ens"
-    code = sweep.main([str(CUSICK), "--table", str(table), "--seeds", "2", "--out", str(out),
+    code = sweep_cli.main([str(CUSICK), "--table", str(table), "--seeds", "2", "--out", str(out),
                        "--workers", "1", *sum((["--set", o] for o in tiny_cusick), [])])
     assert code == 0
     printed = capsys.readouterr().out
-    records = {r["name"]: r for r in sweep.read_results(out / "results.csv")}
+    records = {r["name"]: r for r in sweep_rows.read_results(out / "results.csv")}
     assert sorted(records) == ["limp.s0", "limp.s1", "stiff.s0", "stiff.s1"]
     for name, rec in records.items():
         assert rec["status"] == "completed"

@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 from drape.run import cli
 from drape.run import runner
-from drape.batch import sweep
+from drape.batch import rows as sweep_rows
 from drape.case.case import Case
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -158,8 +158,8 @@ def test_any_run_table_is_read_or_refused_in_one_line(tmp_path_factory, key, cel
         writer.writerow(["name", key])
         writer.writerows([[f"{name}{i}" if name else "", cell] for i, cell in enumerate(cells)])
     try:
-        rows = sweep.read_table(table)
-    except sweep.SweepError as exc:
+        rows = sweep_rows.read_table(table)
+    except sweep_rows.SweepError as exc:
         assert "\n" not in str(exc)
         return
     case, small = BASES[0]

@@ -21,7 +21,8 @@ from constitutive.friction import FrictionParams
 from constitutive.kes import kes_profile, run_kes
 from constitutive.law import BendingLaw
 from constitutive.material import FabricMaterial
-from drape.solvers.newmark import integrate, quasi_static
+from drape.solvers.static import quasi_static
+from drape.solvers.time_stepping import integrate
 from drape.models.plate import KirchhoffPlate, pure_bending_rotations
 
 L, W = 0.01, 0.01          # m: the KES-FB clamp gap is 1 cm

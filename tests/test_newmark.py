@@ -14,15 +14,9 @@ from constitutive.law import BendingLaw
 from constitutive.material import FabricMaterial
 from drape.solvers.linear import DirectSolver, pardiso_available
 from drape.models.protocol import Evaluation
-from drape.solvers.newmark import (
-    ConvergenceError,
-    IntegratorInputError,
-    NewmarkState,
-    initial_state,
-    integrate,
-    newmark_step,
-    quasi_static,
-)
+from drape.solvers.newmark import ConvergenceError, IntegratorInputError, NewmarkState, initial_state, newmark_step
+from drape.solvers.static import quasi_static
+from drape.solvers.time_stepping import integrate
 from drape.models.plate import KirchhoffPlate
 
 B, RHO, L, W = 2.0e-5, 0.2, 0.1, 0.02

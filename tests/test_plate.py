@@ -16,7 +16,9 @@ from scipy.optimize import brentq
 from constitutive.friction import FrictionParams, closed_form_from_rest
 from constitutive.law import BendingLaw
 from constitutive.material import FabricMaterial
-from drape.solvers.newmark import initial_state, integrate, quasi_static
+from drape.solvers.newmark import initial_state
+from drape.solvers.static import quasi_static
+from drape.solvers.time_stepping import integrate
 from constitutive.units import G0
 from drape.models.plate import KirchhoffPlate, PlateInputError, pure_bending_rotations
 

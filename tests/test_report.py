@@ -13,7 +13,8 @@ import pytest
 
 from drape.batch import report
 
-from drape.batch import sweep
+from drape.batch import rows as sweep_rows
+from drape.batch import sweep_cli
 from drape.run.output import OutputWriter
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -29,7 +30,7 @@ def sweep_dir(tmp_path_factory, tiny_cusick):
     table.write_text("name,material.kes.B_warp,material.kes.B_weft,measured.DC\n"
                      "limp,0.04,0.03,61.5\nstiff,0.3,0.2,\nbroken,-0.1,0.2,50\n")
     out = tmp / "sweep"
-    code = sweep.main([str(CUSICK), "--table", str(table), "--out", str(out), "--workers", "1",
+    code = sweep_cli.main([str(CUSICK), "--table", str(table), "--out", str(out), "--workers", "1",
                        "--quiet", *sum((["--set", o] for o in tiny_cusick), [])])
     assert code == 0
     return out
@@ -83,7 +84,7 @@ def check_self_contained(path: Path) -> Page:
 
 
 def test_sweep_report_lists_every_run_with_top_view_and_pvd(sweep_dir):
-    records = sweep.read_results(sweep_dir / "results.csv")
+    records = sweep_rows.read_results(sweep_dir / "results.csv")
     page = check_self_contained(sweep_dir / "report.html")
     head, *rows = page.rows
     assert [r[0] for r in rows] == ["limp", "stiff", "broken"]      # the table's order

@@ -189,7 +189,7 @@ def test_check_builds_without_running(tmp_path, capsys, monkeypatch):
     assert "membrane taken at" not in out               # a plate has no membrane
     assert not any(tmp_path.iterdir())                 # nothing written
     assert runner.main([str(CASES / "validation" / "wool_tropical.toml"), "--check"]) == 0
-    from constitutive.material.tensile import DEFAULT_TENSILE
+    from constitutive.tensile import DEFAULT_TENSILE
     from drape.analyses.drape_coefficient import skirt_tension
 
     tension = skirt_tension(0.1629 * 9.80665, 0.127, 0.0635)    # the wool's W, its 25.4/12.7 cm

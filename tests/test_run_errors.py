@@ -62,7 +62,7 @@ def stopped_copy(finished: Path, tmp_path: Path) -> Path:
 # --------------------------------------------------------------------------- one writer per folder
 def test_a_second_run_into_a_folder_in_use_is_refused_and_mixes_nothing(tmp_path, capsys):
     out = tmp_path / "D"
-    first = subprocess.Popen([sys.executable, "-m", "drape.run.runner", str(CANTILEVER), "--out", str(out),
+    first = subprocess.Popen([sys.executable, "-m", "drape.run", str(CANTILEVER), "--out", str(out),
                               "--quiet", "--set", "mesh.nx=2", "--set", "mesh.ny=1",
                               "--set", "solver.t_end=0.4"],
                              cwd=ROOT, env=env_with_worktree(), stderr=subprocess.PIPE, text=True)
@@ -304,7 +304,7 @@ def test_a_signal_during_the_build_in_a_real_process_leaves_a_summary(tmp_path):
     """SIGTERM at once after start: whether it lands in the imports, the case or the build, the
     process ends 143 with one line; once the runner holds the folder, with a summary."""
     out = tmp_path / "o"
-    proc = subprocess.Popen([sys.executable, "-m", "drape.run.runner", str(CANTILEVER), "--out", str(out),
+    proc = subprocess.Popen([sys.executable, "-m", "drape.run", str(CANTILEVER), "--out", str(out),
                              "--quiet", *TINY, "--set", "solver.t_end=1"], cwd=ROOT,
                             env=env_with_worktree(),
                             stderr=subprocess.PIPE, text=True)

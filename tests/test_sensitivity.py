@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from drape.batch import sensitivity as sens
-from drape.batch.sweep import read_results
+from drape.batch.rows import read_results
 
 ROOT = Path(__file__).resolve().parents[1]
 WOOL = ROOT / "cases" / "validation" / "wool_tropical.toml"

@@ -177,7 +177,7 @@ def test_a_bias_strip_hangs_like_a_warp_strip_with_tensor_friction(frame, same):
     from skfem import MeshTri
 
     from constitutive.material import load_material
-    from drape.solvers.newmark import quasi_static
+    from drape.solvers.static import quasi_static
     from drape.models.shell import KirchhoffLoveShell
 
     mat = load_material("fabric1")

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from skfem import MeshTri
 
-from drape.solvers.newmark import quasi_static
+from drape.solvers.static import quasi_static
 from constitutive.conventions import CURVATURE_SIGN
 from drape.models.shell import ElasticMaterial, KirchhoffLoveShell
 
@@ -124,9 +124,9 @@ def test_bad_input_names_the_parameter():
 
 def test_undamped_swing_conserves_energy():
     """Strip released flat under full gravity, no damping or friction, trapezoidal
-    Newmark (drape.solvers.newmark.integrate): kinetic + strain + gravity potential stays
+    Newmark (drape.solvers.time_stepping.integrate): kinetic + strain + gravity potential stays
     at its initial value 0 within 0.5 % of the strain energy at the bottom of the swing."""
-    from drape.solvers.newmark import integrate
+    from drape.solvers.time_stepping import integrate
     L, b, B = 1.0, 0.2, 1.0
     shell = KirchhoffLoveShell(_strip(L, b, 4), ElasticMaterial(bending=B, membrane=1e4,
                                                              areal_mass=8.0 / 9.80665))
@@ -173,7 +173,7 @@ def test_energy_balance_with_friction_viscosity_and_damping():
     kinetic + strain + gravity potential + friction work + damping work (Rayleigh and
     the law's d κ̇) stays at 0 within 1 % of the potential released."""
     from constitutive.material import load_material
-    from drape.solvers.newmark import integrate
+    from drape.solvers.time_stepping import integrate
     from meshes import strip
     shell = KirchhoffLoveShell(strip(0.0163, 0.025, 3, 1), load_material("fabric1"),
                                load_boundary="free_end", rayleigh=(5.0, 0.0))
@@ -189,7 +189,8 @@ def test_small_amplitude_vibration_frequency():
     """Free vibration from a small tip-loaded shape (no gravity, no damping): the period
     of the tip motion equals the Euler–Bernoulli cantilever's 2π/ω1,
     ω1 = 1.8751² / L² √(B/ρ_A) (docs/theory.md §5), within 1 % (Newmark period error ~0.1 %)."""
-    from drape.solvers.newmark import NewmarkState, integrate
+    from drape.solvers.newmark import NewmarkState
+    from drape.solvers.time_stepping import integrate
     L, b, B, rho = 1.0, 0.1, 1.0, 1.0
     shell = KirchhoffLoveShell(_strip(L, b, 8), ElasticMaterial(bending=B, membrane=1e6,
                                                              areal_mass=rho),

@@ -9,7 +9,7 @@ import pytest
 
 from constitutive.friction import FrictionParams, FrictionState
 from constitutive.law import BendingLaw
-from drape.solvers import newmark
+from drape.solvers import time_stepping
 from drape.case.build import build
 from drape.case.case import load_case
 
@@ -62,14 +62,14 @@ def test_model_restored_from_its_state_dict_continues_like_the_original(kinemati
     case = load_case(CANTILEVER, overrides)
     original = build(case).model
     run = dict(alpha_hht=case.solver.alpha_hht, rtol=1e-10, atol=1e-14)
-    state = newmark.integrate(original, 0.05, 0.01, **run)
+    state = time_stepping.integrate(original, 0.05, 0.01, **run)
     saved = copy.deepcopy(original.state_dict())
     restored = build(case).model
     restored.load_state_dict(saved)
     for key, value in saved.items():
         np.testing.assert_array_equal(restored.state_dict()[key], value, err_msg=key)
 
-    ends = [newmark.integrate(model, 0.1, 0.01, state=copy.deepcopy(state), **run)
+    ends = [time_stepping.integrate(model, 0.1, 0.01, state=copy.deepcopy(state), **run)
             for model in (original, restored)]
     np.testing.assert_array_equal(ends[1].u, ends[0].u)
     after = original.state_dict()

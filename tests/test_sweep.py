@@ -13,7 +13,8 @@ from pathlib import Path
 import pytest
 
 from drape.run import runner
-from drape.batch import sweep
+from drape.batch import rows as sweep_rows
+from drape.batch import sweep, sweep_cli
 from drape.case.case import load_case
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -42,36 +43,36 @@ def env_with_worktree() -> dict:
 # --------------------------------------------------------------------------- rows
 def test_table_columns_must_be_case_keys_or_measurements(tmp_path):
     bad = write_table(tmp_path / "t.csv", "name,bending_scale\na,2\n")
-    with pytest.raises(sweep.SweepError, match="column 'bending_scale'"):
-        sweep.read_table(bad)
+    with pytest.raises(sweep_rows.SweepError, match="column 'bending_scale'"):
+        sweep_rows.read_table(bad)
     twice = write_table(tmp_path / "u.csv", "name,mesh.nx\na,2\na,3\n")
-    with pytest.raises(sweep.SweepError, match="'a' appears twice"):
-        sweep.read_table(twice)
+    with pytest.raises(sweep_rows.SweepError, match="'a' appears twice"):
+        sweep_rows.read_table(twice)
     slash = write_table(tmp_path / "v.csv", "name,mesh.nx\n../x,2\n")
-    with pytest.raises(sweep.SweepError, match="names the run's folder"):
-        sweep.read_table(slash)
+    with pytest.raises(sweep_rows.SweepError, match="names the run's folder"):
+        sweep_rows.read_table(slash)
     ragged = write_table(tmp_path / "w.csv", "name,mesh.nx\na,2,3\n")
-    with pytest.raises(sweep.SweepError, match="row 1: 3 cells for 2 columns"):
-        sweep.read_table(ragged)
+    with pytest.raises(sweep_rows.SweepError, match="row 1: 3 cells for 2 columns"):
+        sweep_rows.read_table(ragged)
 
 
 def test_unnamed_table_rows_are_numbered_and_blank_cells_keep_the_base(tmp_path):
     table = write_table(tmp_path / "t.csv", "mesh.nx,mesh.ny,measured.DC\n2,,40\n\n3,1,\n")
-    rows = sweep.read_table(table)
+    rows = sweep_rows.read_table(table)
     assert [r.name for r in rows] == ["run000", "run001"]
     assert rows[0].keys == {"mesh.nx": "2"} and rows[0].measured == {"measured.DC": "40"}
     assert rows[1].overrides() == ["mesh.nx=3", "mesh.ny=1"]
 
 
 def test_grid_is_the_product_of_the_value_lists():
-    rows = sweep.grid_rows(["mesh.nx=2,3,4", "material.bending_scale=1, 2"])
+    rows = sweep_rows.grid_rows(["mesh.nx=2,3,4", "material.bending_scale=1, 2"])
     assert len(rows) == 6
     assert {(r.keys["mesh.nx"], r.keys["material.bending_scale"]) for r in rows} == {
         (nx, s) for nx in ("2", "3", "4") for s in ("1", "2")}
-    with pytest.raises(sweep.SweepError, match="dotted case KEY"):
-        sweep.grid_rows(["nx=2,3"])
-    with pytest.raises(sweep.SweepError, match="empty value"):
-        sweep.grid_rows(["mesh.nx=2,,3"])
+    with pytest.raises(sweep_rows.SweepError, match="dotted case KEY"):
+        sweep_rows.grid_rows(["nx=2,3"])
+    with pytest.raises(sweep_rows.SweepError, match="empty value"):
+        sweep_rows.grid_rows(["mesh.nx=2,,3"])
 
 
 # --------------------------------------------------------------------------- LocalCluster
@@ -80,11 +81,11 @@ def test_four_row_sweep_with_an_invalid_row_on_a_local_cluster(tmp_path):
                         "name,material.bending_scale,measured.DC\n"
                         "limp,0.5,12.5\nbase,1,\nnegative,-1,\nstiff,2,31\n")
     out = tmp_path / "sweep"
-    code = sweep.main([str(CANTILEVER), "--table", str(table), "--out", str(out),
+    code = sweep_cli.main([str(CANTILEVER), "--table", str(table), "--out", str(out),
                        "--workers", "2", "--quiet", *sum((["--set", o] for o in TINY), [])])
     assert code == 0
 
-    records = {r["name"]: r for r in sweep.read_results(out / "results.csv")}
+    records = {r["name"]: r for r in sweep_rows.read_results(out / "results.csv")}
     assert sorted(records) == ["base", "limp", "negative", "stiff"]
     assert records["negative"]["status"] == "invalid"
     assert records["negative"]["reason"] == "material.bending_scale = -1: must be > 0.0"
@@ -115,8 +116,8 @@ def test_an_existing_results_file_needs_resume(tmp_path):
     out = tmp_path / "sweep"
     out.mkdir()
     (out / "results.csv").write_text("name,status\n")
-    rows = sweep.grid_rows(["mesh.nx=2"])
-    with pytest.raises(sweep.SweepError, match="--resume"):
+    rows = sweep_rows.grid_rows(["mesh.nx=2"])
+    with pytest.raises(sweep_rows.SweepError, match="--resume"):
         sweep.run_sweep(CANTILEVER, rows, out)
 
 
@@ -196,11 +197,11 @@ def test_two_row_sweep_through_an_existing_scheduler(tmp_path, dask_cluster, mon
 
     monkeypatch.setattr(distributed, "LocalCluster", no_local_cluster)
     out = tmp_path / "sweep"
-    code = sweep.main([str(CANTILEVER), "--grid", "material.bending_scale=1,2", "--out", str(out),
+    code = sweep_cli.main([str(CANTILEVER), "--grid", "material.bending_scale=1,2", "--out", str(out),
                        "--scheduler", dask_cluster, "--quiet",
                        *sum((["--set", o] for o in TINY), [])])
     assert code == 0
-    records = sweep.read_results(out / "results.csv")
+    records = sweep_rows.read_results(out / "results.csv")
     assert [r["status"] for r in records] == ["completed", "completed"]
     tips = {r["material.bending_scale"]: json.loads(
         (out / r["run_dir"] / "summary.json").read_text())["final"]["tip_uz"] for r in records}
@@ -214,12 +215,12 @@ def test_the_dask_environment_variable_names_the_scheduler(tmp_path, dask_cluste
     out = tmp_path / "sweep"
     env = env_with_worktree()
     env["DASK_SCHEDULER_ADDRESS"] = dask_cluster
-    proc = subprocess.run([sys.executable, "-m", "drape.batch.sweep", str(CANTILEVER), "--grid",
+    proc = subprocess.run([sys.executable, "-m", "drape.sweep", str(CANTILEVER), "--grid",
                            "mesh.nx=2", "--out", str(out), "--quiet",
                            *sum((["--set", o] for o in TINY), [])],
                           cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
-    records = sweep.read_results(out / "results.csv")
+    records = sweep_rows.read_results(out / "results.csv")
     assert [r["status"] for r in records] == ["completed"]
     assert records[0]["worker"] == external_worker(dask_cluster)
 
@@ -228,7 +229,7 @@ def test_the_dask_environment_variable_names_the_scheduler(tmp_path, dask_cluste
 def test_a_terminated_sweep_resumes_with_only_the_missing_rows(tmp_path):
     out = tmp_path / "sweep"
     longer = ["mesh.nx=2", "mesh.ny=1", "solver.t_end=0.6"]
-    cmd = [sys.executable, "-m", "drape.batch.sweep", str(CANTILEVER), "--grid",
+    cmd = [sys.executable, "-m", "drape.sweep", str(CANTILEVER), "--grid",
            "material.bending_scale=1,1.5,2,3", "--out", str(out), "--workers", "1", "--quiet",
            *sum((["--set", o] for o in longer), [])]
     proc = subprocess.Popen(cmd, cwd=ROOT, env=env_with_worktree(), stdout=subprocess.PIPE,
@@ -237,7 +238,7 @@ def test_a_terminated_sweep_resumes_with_only_the_missing_rows(tmp_path):
     try:
         deadline = time.monotonic() + 300
         while time.monotonic() < deadline and proc.poll() is None:
-            if results.exists() and len(sweep.read_results(results)) >= 1:
+            if results.exists() and len(sweep_rows.read_results(results)) >= 1:
                 break
             time.sleep(0.05)
         assert proc.poll() is None, proc.communicate()
@@ -247,18 +248,18 @@ def test_a_terminated_sweep_resumes_with_only_the_missing_rows(tmp_path):
         stop(proc)
     assert proc.returncode == 143, err
     assert "terminated" in err
-    first = sweep.read_results(results)
+    first = sweep_rows.read_results(results)
     assert 1 <= len(first) < 4
     assert all(r["status"] == "completed" for r in first)
     kept = {r["name"]: (out / r["run_dir"] / "summary.json").stat().st_mtime_ns for r in first}
 
-    resumed = subprocess.run([sys.executable, "-m", "drape.batch.sweep", "--resume", "--out", str(out),
+    resumed = subprocess.run([sys.executable, "-m", "drape.sweep", "--resume", "--out", str(out),
                               "--workers", "1"], cwd=ROOT, env=env_with_worktree(),
                              capture_output=True, text=True, timeout=300)
     assert resumed.returncode == 0, resumed.stderr
     ran = [line.split(":")[0] for line in resumed.stdout.splitlines() if ": " in line]
     assert sorted(ran) == sorted({"run000", "run001", "run002", "run003"} - set(kept))
-    final = sweep.read_results(results)
+    final = sweep_rows.read_results(results)
     assert sorted(r["name"] for r in final) == ["run000", "run001", "run002", "run003"]
     assert all(r["status"] == "completed" for r in final)
     assert final[:len(first)] == first

@@ -15,7 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from drape.batch import sweep
+from drape.batch import rows as sweep_rows
+from drape.batch import sweep, sweep_cli
 from drape.run.lock import folder_lock
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -44,15 +45,15 @@ def one_error(capsys) -> str:
 
 
 # --------------------------------------------------------------------------- bad input, one line
-@pytest.mark.filterwarnings("ignore:'drape.batch.sweep' found in sys.modules:RuntimeWarning")
+@pytest.mark.filterwarnings("ignore:'drape.sweep' found in sys.modules:RuntimeWarning")
 @pytest.mark.parametrize("seeds, why", [("-1", "--seeds = -1: must be >= 1"),
                                         ("2", "has no seeded [load.perturbation]")])
 def test_seed_errors_are_one_line_under_python_m(tmp_path, capsys, monkeypatch, seeds, why):
     """Run as ``python -m drape.sweep`` (the module loaded a second time, as __main__)."""
-    monkeypatch.setattr(sys, "argv", ["drape.batch.sweep", str(CANTILEVER), "--seeds", seeds,
+    monkeypatch.setattr(sys, "argv", ["drape.sweep", str(CANTILEVER), "--seeds", seeds,
                                       "--out", str(tmp_path / "s")])
     with pytest.raises(SystemExit) as stop:
-        runpy.run_module("drape.batch.sweep", run_name="__main__", alter_sys=True)
+        runpy.run_module("drape.sweep", run_name="__main__", alter_sys=True)
     assert stop.value.code == 2
     assert why in one_error(capsys)
 
@@ -72,7 +73,7 @@ def test_a_scheduler_that_is_no_address_or_does_not_answer_leaves_nothing(tmp_pa
                                                                           address, code, why):
     address = address or f"tcp://127.0.0.1:{free_port()}"
     out = tmp_path / "s"
-    assert sweep.main([str(CANTILEVER), "--grid", "mesh.nx=2", "--out", str(out), "--quiet",
+    assert sweep_cli.main([str(CANTILEVER), "--grid", "mesh.nx=2", "--out", str(out), "--quiet",
                        "--scheduler", address, *sets(TINY)]) == code
     assert why in one_error(capsys)
     assert not (out / "results.csv").exists() and not (out / "sweep.json").exists()
@@ -82,7 +83,7 @@ def test_a_sweep_into_a_folder_in_use_is_refused(tmp_path, capsys):
     out = tmp_path / "s"
     out.mkdir()
     with folder_lock(out):
-        assert sweep.main([str(CANTILEVER), "--grid", "mesh.nx=2", "--out", str(out),
+        assert sweep_cli.main([str(CANTILEVER), "--grid", "mesh.nx=2", "--out", str(out),
                            "--quiet", *sets(TINY)]) == 4
     assert "is in use by another run or sweep" in one_error(capsys)
     assert not (out / "results.csv").exists()
@@ -142,7 +143,7 @@ def test_a_finished_run_is_read_back_from_its_summary_not_run_again(tmp_path):
 
 
 def sweep_command(out: Path, *extra: str) -> list[str]:
-    return [sys.executable, "-m", "drape.batch.sweep", str(CANTILEVER), "--grid",
+    return [sys.executable, "-m", "drape.sweep", str(CANTILEVER), "--grid",
             "material.bending_scale=0.5,1,2", "--out", str(out), "--workers", "1", "--quiet",
             *extra]
 
@@ -162,7 +163,7 @@ def test_a_terminated_sweep_resumes_to_the_results_of_an_uninterrupted_one(tmp_p
     try:
         deadline = time.monotonic() + 300
         while time.monotonic() < deadline and proc.poll() is None:
-            if results.exists() and len(sweep.read_results(results)) >= 1:
+            if results.exists() and len(sweep_rows.read_results(results)) >= 1:
                 break
             time.sleep(0.02)
         assert proc.poll() is None, proc.communicate()
@@ -173,14 +174,14 @@ def test_a_terminated_sweep_resumes_to_the_results_of_an_uninterrupted_one(tmp_p
             proc.kill()
             proc.wait()
     assert proc.returncode == 143, err
-    assert len(sweep.read_results(results)) < 3
-    resumed = subprocess.run([sys.executable, "-m", "drape.batch.sweep", "--resume", "--out", str(out),
+    assert len(sweep_rows.read_results(results)) < 3
+    resumed = subprocess.run([sys.executable, "-m", "drape.sweep", "--resume", "--out", str(out),
                               "--workers", "1", "--quiet"], cwd=ROOT, env=env_with_worktree(),
                              capture_output=True, text=True, timeout=600)
     assert resumed.returncode == 0, resumed.stderr
 
     def table(folder: Path) -> list[dict]:
-        rows = sorted(sweep.read_results(folder / "results.csv"), key=lambda r: r["name"])
+        rows = sorted(sweep_rows.read_results(folder / "results.csv"), key=lambda r: r["name"])
         return [{k: r[k] for k in SAME} for r in rows]
 
     expected = table(reference)

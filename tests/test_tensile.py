@@ -11,7 +11,7 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 
 from constitutive.material import DEFAULT_MEMBRANE
-from constitutive.material.tensile import DEFAULT_TENSILE, TensileCurve
+from constitutive.tensile import DEFAULT_TENSILE, TensileCurve
 from drape.case.build import RunInputError, build_material
 from drape.case.case import CaseError, load_case
 from drape.analyses.drape_coefficient import skirt_tension

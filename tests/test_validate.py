@@ -11,7 +11,7 @@ import pytest
 
 from drape.batch import validation_set as validate
 from drape.case.case import load_case
-from drape.batch.sweep import read_results, read_table
+from drape.batch.rows import read_results, read_table
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases" / "validation"

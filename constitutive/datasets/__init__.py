@@ -71,11 +71,25 @@ kes_csv
 cli
     ``python -m constitutive.datasets``.
 """
-from constitutive.datasets.kes_csv import (detect_branches, load_dataset, load_kes_csv, simulated_export,
-                                           write_kes_csv)
-from constitutive.datasets.thesis import (CURVATURE_KES, DATASET_NAMES, MOMENT_KES, THESIS_POLYNOMIALS,
-                                          BranchCurves, KESDataError, KESLoop, PathPolynomials,
-                                          thesis_dataset, turning_points)
+from constitutive.datasets.kes_csv import (
+                                           detect_branches,
+                                           load_dataset,
+                                           load_kes_csv,
+                                           simulated_export,
+                                           write_kes_csv,
+)
+from constitutive.datasets.thesis import (
+                                           CURVATURE_KES,
+                                           DATASET_NAMES,
+                                           MOMENT_KES,
+                                           THESIS_POLYNOMIALS,
+                                           BranchCurves,
+                                           KESDataError,
+                                           KESLoop,
+                                           PathPolynomials,
+                                           thesis_dataset,
+                                           turning_points,
+)
 
 __all__ = ["THESIS_POLYNOMIALS", "DATASET_NAMES", "CURVATURE_KES", "MOMENT_KES", "PathPolynomials",
            "KESLoop", "BranchCurves", "KESDataError", "turning_points", "thesis_dataset",

@@ -2,14 +2,12 @@
 """
 from __future__ import annotations
 
-
-
-
 import argparse
 
 from constitutive.datasets.kes_csv import simulated_export, write_kes_csv
 from constitutive.datasets.thesis import DATASET_NAMES, THESIS_POLYNOMIALS, turning_points
 from constitutive.fit.variants import thesis_law
+
 __all__ = ['main']
 
 

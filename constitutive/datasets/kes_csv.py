@@ -9,11 +9,19 @@ from pathlib import Path
 
 import numpy as np
 
-from constitutive.kes import kes_profile
+from constitutive.datasets.thesis import (
+    CURVATURE_KES,
+    DATASET_NAMES,
+    KES_RATE,
+    MOMENT_KES,
+    THESIS_POLYNOMIALS,
+    BranchCurves,
+    KESDataError,
+    _factor_to_si,
+    thesis_dataset,
+)
+from constitutive.kes import kes_profile, run_kes
 
-from constitutive.kes import run_kes
-from constitutive.datasets.thesis import (CURVATURE_KES, DATASET_NAMES, KES_RATE, MOMENT_KES, THESIS_POLYNOMIALS,
-                                         BranchCurves, KESDataError, _factor_to_si, thesis_dataset)
 __all__ = ['detect_branches', 'load_kes_csv', 'write_kes_csv', 'load_dataset', 'simulated_export']
 
 

@@ -105,8 +105,14 @@ plots
 """
 from constitutive.fit.global_fit import FitResult, fit, fit_loop
 from constitutive.fit.residual import evaluate, model_moment, residual_kes
-from constitutive.fit.variants import (DEFAULT_ACCEL_TIME, THESIS_RESIDUALS, THESIS_VARIANTS, VARIANTS,
-                                       Variant, thesis_law)
+from constitutive.fit.variants import (
+                                       DEFAULT_ACCEL_TIME,
+                                       THESIS_RESIDUALS,
+                                       THESIS_VARIANTS,
+                                       VARIANTS,
+                                       Variant,
+                                       thesis_law,
+)
 
 __all__ = ["Variant", "VARIANTS", "THESIS_VARIANTS", "THESIS_RESIDUALS", "DEFAULT_ACCEL_TIME",
            "FitResult", "residual_kes", "model_moment", "evaluate", "fit", "fit_loop", "thesis_law"]

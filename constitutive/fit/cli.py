@@ -9,13 +9,20 @@ import sys
 import time as _time
 from pathlib import Path
 
-
-from constitutive.datasets import (DATASET_NAMES, load_dataset)
-
+from constitutive.datasets import DATASET_NAMES, load_dataset
 from constitutive.fit.global_fit import fit
 from constitutive.fit.residual import evaluate
-from constitutive.fit.variants import (DEFAULT_ACCEL_TIME, DERIVED_UNITS, PARAM_UNITS, THESIS_RESIDUALS,
-                                       THESIS_VARIANTS, VARIANTS, thesis_law, to_kes)
+from constitutive.fit.variants import (
+    DEFAULT_ACCEL_TIME,
+    DERIVED_UNITS,
+    PARAM_UNITS,
+    THESIS_RESIDUALS,
+    THESIS_VARIANTS,
+    VARIANTS,
+    thesis_law,
+    to_kes,
+)
+
 __all__ = ['format_result', 'all_thesis', 'format_all', 'main']
 
 

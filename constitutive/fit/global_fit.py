@@ -11,16 +11,15 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import lsq_linear, minimize
 
-from constitutive.datasets import (CURVATURE_KES, MOMENT_KES,
-                                   KESLoop, load_dataset)
 from constitutive import units as _units
+from constitutive.datasets import CURVATURE_KES, MOMENT_KES, KESLoop, load_dataset
 from constitutive.derived import friction_quantities
+from constitutive.fit.residual import model_moment, residual_kes
+from constitutive.fit.variants import DEFAULT_ACCEL_TIME, DERIVED_UNITS, PARAM_UNITS, _variant, to_kes
 from constitutive.friction import FrictionParams, dahl_path
 from constitutive.kes import kes_values
 from constitutive.law import BendingLaw
 
-from constitutive.fit.residual import model_moment, residual_kes
-from constitutive.fit.variants import DEFAULT_ACCEL_TIME, DERIVED_UNITS, PARAM_UNITS, _variant, to_kes
 __all__ = ['FitResult', 'fit', 'fit_loop', 'GRID', 'N_REFINE']
 
 

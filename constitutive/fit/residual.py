@@ -2,10 +2,9 @@
 """
 from __future__ import annotations
 
-
 import numpy as np
 
-from constitutive.datasets import (MOMENT_KES)
+from constitutive.datasets import MOMENT_KES
 from constitutive.friction import friction_path
 
 __all__ = ['residual_kes', 'model_moment', 'evaluate']

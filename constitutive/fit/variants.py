@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-
 from constitutive import units as _units
 from constitutive.kes import DEFAULT_ACCEL_TIME as KES_DEFAULT_ACCEL_TIME
 from constitutive.material import load_material

@@ -56,8 +56,6 @@ from_kes
     :func:`material_from_kes`: laws calibrated to a KES-F sheet's B and 2HB.
 kes_sheet
     A KES-F sheet's values, units and plausible ranges.
-tensile
-    :class:`TensileCurve`: a fabric's KES-shaped tensile curve.
 library
     :func:`load_material`, :func:`available_materials`: the bundled library and files.
 """

@@ -3,21 +3,18 @@
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from constitutive.defaults import DEFAULT_MEMBRANE, default_twist_rigidity
 from constitutive.friction import FrictionParams
 from constitutive.kes import kes_profile, kes_values, run_kes
 from constitutive.law import BendingLaw
-from constitutive.material.tensile import DEFAULT_SECANT
 
 __all__ = ['MaterialError', 'FabricMaterial', 'DEFAULT_MEMBRANE']
 
 
-#: Membrane defaults (N/m): woven fabric, nearly inextensible along yarns, soft in shear.
-DEFAULT_MEMBRANE = {"E11": DEFAULT_SECANT, "E22": DEFAULT_SECANT, "nu12": 0.0, "G12": 50.0}
 
 
 class MaterialError(ValueError):
@@ -51,7 +48,7 @@ class FabricMaterial:
         Where a given ``twist_rigidity`` comes from (text, for summary.json).
     tensile : dict
         ``{"E11": TensileCurve, "E22": ...}`` for the directions whose stiffness comes from a
-        tensile curve (a KES sheet's, or :data:`constitutive.material.tensile.DEFAULT_TENSILE`);
+        tensile curve (a KES sheet's, or :data:`constitutive.tensile.DEFAULT_TENSILE`);
         :meth:`at_tension` linearises them.
     membrane_tension : float or None
         The tension [N/m] at which E11 and E22 were taken on their curves (:meth:`at_tension`);
@@ -93,7 +90,7 @@ class FabricMaterial:
             need(key, isinstance(getattr(self, key), BendingLaw), "must be a BendingLaw")
             need(key, np.ndim(getattr(self, key).k1) == 0, "scalar law parameters (one material)")
         if self.twist_rigidity is None:
-            object.__setattr__(self, "twist_rigidity", math.sqrt(self.warp.k1 * self.weft.k1))
+            object.__setattr__(self, "twist_rigidity", default_twist_rigidity(self.warp, self.weft))
             object.__setattr__(self, "_twist_default", True)
         need("twist_rigidity", self.twist_rigidity > 0, "twist_rigidity > 0")
         for key in ("E11", "E22", "G12"):
@@ -108,11 +105,11 @@ class FabricMaterial:
         Directions without a curve (a stiffness given as a number) keep theirs. The tension
         is the one the specimen carries (e.g. :func:`drape.analyses.drape_coefficient.skirt_tension`): a fabric's
         curve is convex, so at a drape's load its tangent lies far below the stiffness that
-        stores the test's energy (:mod:`constitutive.material.tensile`).
+        stores the test's energy (:mod:`constitutive.tensile`).
 
         Examples
         --------
-        >>> from constitutive.material.tensile import DEFAULT_TENSILE
+        >>> from constitutive.tensile import DEFAULT_TENSILE
         >>> m = FabricMaterial("demo", 0.2, None, BendingLaw(k1=4e-6), BendingLaw(k1=4e-6),
         ...                    tensile={"E11": DEFAULT_TENSILE, "E22": DEFAULT_TENSILE})
         >>> d = m.at_tension(0.05)

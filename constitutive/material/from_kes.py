@@ -5,13 +5,11 @@ second order with ``f2_ratio`` > 0).
 """
 from __future__ import annotations
 
-
-
 from constitutive.friction import FrictionParams, ParameterError, friction_path
 from constitutive.kes import kes_profile, kes_values
 from constitutive.law import BendingLaw
-
 from constitutive.material.fabric import DEFAULT_MEMBRANE, FabricMaterial, MaterialError
+
 __all__ = ['material_from_kes']
 
 

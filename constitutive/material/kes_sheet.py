@@ -45,7 +45,7 @@ bounds (e.g. a weight in g/m² below 100) cannot be told from a real fabric.
 * ``G12 = G · (g₀·10⁻³ N / 10⁻² m) · (180/π)`` — KES G is per degree of shear angle; the
   membrane's is per radian: 1 gf/(cm·deg) = 56.19 N/m.
 * Tensile curve per direction from the KES-FB1 values up to Fm: the power law of
-  :mod:`constitutive.material.tensile`, with strain εm = EMT/100 at Fm and linearity LT. Any two of
+  :mod:`constitutive.tensile`, with strain εm = EMT/100 at Fm and linearity LT. Any two of
   EMT, LT, WT give it (all three must agree within 10 %: a sheet rounds them); EMT alone
   takes the default LT = 0.65. Its linear stiffness storing the energy,
   ``E = 2 WT / εm² = LT · Fm / εm``, is E11 or E22 of the material; a drape case linearises
@@ -58,7 +58,7 @@ bounds (e.g. a weight in g/m² below 100) cannot be told from a real fabric.
 Where the sheet is silent the membrane keeps the project's defaults
 (:data:`constitutive.material.DEFAULT_MEMBRANE`: E11 = E22 = 1e4 N/m, G12 = 50 N/m, ν12 = 0;
 in sheet terms G ≈ 0.89 gf/(cm·deg), and the tensile curve
-:data:`constitutive.material.tensile.DEFAULT_TENSILE`, EMT ≈ 3.2 % at LT = 0.65: mid-range apparel
+:data:`constitutive.tensile.DEFAULT_TENSILE`, EMT ≈ 3.2 % at LT = 0.65: mid-range apparel
 values).
 """
 from __future__ import annotations
@@ -70,7 +70,7 @@ from typing import Annotated
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
-from constitutive.material.tensile import DEFAULT_LINEARITY, MAX_LOAD_KES, TensileCurve
+from constitutive.tensile import DEFAULT_LINEARITY, MAX_LOAD_KES, TensileCurve
 from constitutive.units import G0, parse_quantity, to_si, ureg
 
 __all__ = ["SHEET", "SheetKey", "read_sheet_value", "sheet_field", "KesSpec",

@@ -7,11 +7,11 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from constitutive.schema_errors import format_errors
-
 from constitutive.bundled import cases_dir
 from constitutive.material.fabric import FabricMaterial, MaterialError
 from constitutive.material.spec import MaterialSpec, material_from_spec
+from constitutive.schema_errors import format_errors
+
 __all__ = ['available_materials', 'load_material']
 
 

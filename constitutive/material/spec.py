@@ -2,17 +2,16 @@
 """
 from __future__ import annotations
 
-
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from constitutive.friction import FrictionParams, ParameterError
-from constitutive.material.kes_sheet import KesSpec, sheet_field
 from constitutive.law import BendingLaw
-from constitutive.material.tensile import DEFAULT_TENSILE
-from constitutive.units import to_si
-
 from constitutive.material.fabric import DEFAULT_MEMBRANE, FabricMaterial, MaterialError
 from constitutive.material.from_kes import material_from_kes
+from constitutive.material.kes_sheet import KesSpec, sheet_field
+from constitutive.tensile import DEFAULT_TENSILE
+from constitutive.units import to_si
+
 __all__ = ['LawSpec', 'MembraneSpec', 'MaterialSpec', 'KesFabricSpec', 'material_from_spec']
 
 
@@ -119,7 +118,7 @@ class MaterialSpec(_Strict):
 
     def tensile_curves(self) -> dict:
         """The tensile curve behind E11 and E22 where no number gives them: the ``[kes]``
-        sheet's, else (where the stiffness is the default) :data:`constitutive.material.tensile.DEFAULT_TENSILE`,
+        sheet's, else (where the stiffness is the default) :data:`constitutive.tensile.DEFAULT_TENSILE`,
         whose linear stiffness storing the energy is the default 10⁴ N/m."""
         sheet = {} if self.kes is None else {k: c for k, (c, _) in self.kes.tensile_curves().items()}
         sources = self.membrane_values()[1]

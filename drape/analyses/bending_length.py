@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from constitutive.kes import kes_values, run_kes
+
 #: ASTM D1388 chord angle [rad] at which c = l/2.
 ASTM_CHORD_ANGLE = np.deg2rad(41.5)
 
@@ -169,7 +171,6 @@ def shell_peirce_summary(model, u, B_kes=None, clamped="clamped", free="free"):
 
 def _kes_b(law):
     """KES B of a law: its simulated KES-FB loop's mean slope over 0.5–1.5 cm⁻¹ [N·m]."""
-    from constitutive.kes import kes_values, run_kes
     loop = run_kes(law)
     B, _ = kes_values(loop.kappa, loop.moment)
     return float(B)

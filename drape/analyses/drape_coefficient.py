@@ -43,7 +43,6 @@ from scipy.signal import find_peaks
 
 from drape.analyses.outline import outline_harmonics
 
-
 __all__ = ["CusickError", "CusickResult", "shadow_polygon", "boundary_radius", "find_nodes",
            "drape_coefficient", "skirt_tension", "drape_analysis", "plot_top_view", "cusick_post"]
 
@@ -267,7 +266,7 @@ def skirt_tension(weight: float, specimen_radius: float, disc_radius: float) -> 
     hem carries none, the disc's edge the whole overhang). Its mean over the annulus
     ``r_d < r < R`` is ``w (2R + r_d)(R − r_d) / (3 (R + r_d))``: the operating point on the
     fabric's tensile curve at which the shell's linear membrane is taken
-    (:mod:`constitutive.material.tensile`).
+    (:mod:`constitutive.tensile`).
 
     Parameters
     ----------

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from constitutive.units import ureg
 from drape.analyses.drape_coefficient import CusickError, CusickResult, drape_analysis, plot_top_view
 from drape.analyses.scan import ScanError, check_extent, check_finite, check_units, find_disc_top, read_scan
 
@@ -93,8 +94,6 @@ def length_m(text, positive: bool = True) -> float:
     >>> length_m("-2 mm", positive=False)
     -0.002
     """
-    from constitutive.units import ureg
-
     try:
         q = ureg.Quantity(text) if isinstance(text, str) else ureg.Quantity(float(text))
         value = q.magnitude if q.dimensionless else q.to("m").magnitude

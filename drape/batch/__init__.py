@@ -17,8 +17,9 @@ report
 """
 from drape.batch.ensemble import ensemble_stats, ensembles, seed_rows
 from drape.batch.report import write_report
+from drape.batch.rows import SweepError, SweepRow, read_results
 from drape.batch.sensitivity import Factor, Level, run_study
-from drape.batch.sweep import SweepError, SweepRow, read_results, run_sweep
+from drape.batch.sweep import run_sweep
 from drape.batch.validation_set import run_validation, validation_cases
 
 __all__ = ["SweepRow", "SweepError", "run_sweep", "read_results", "seed_rows", "ensembles",

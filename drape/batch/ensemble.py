@@ -23,6 +23,9 @@ import statistics
 from collections import Counter
 from pathlib import Path
 
+from drape.batch.rows import MEASURED, SweepError, SweepRow, read_results
+from drape.case.case import CaseError, load_case
+
 __all__ = ["SEED_KEY", "seed_rows", "seeded", "ensemble_stats", "ensembles", "write_ensembles",
            "describe_ensemble"]
 
@@ -38,8 +41,6 @@ def seed_rows(rows, n: int, base_name: str = "base"):
     >>> [(r.name, r.keys, r.group) for r in seed_rows(None, 2)]
     [('base.s0', {'load.perturbation.seed': '0'}, 'base'), ('base.s1', {'load.perturbation.seed': '1'}, 'base')]
     """
-    from drape.batch.sweep import SweepError, SweepRow
-
     if n < 1:
         raise SweepError(f"--seeds = {n}: must be >= 1")
     rows = rows if rows is not None else [SweepRow(base_name)]
@@ -55,9 +56,6 @@ def seed_rows(rows, n: int, base_name: str = "base"):
 def seeded(case_path, overrides: list[str], rows, n: int):
     """:func:`seed_rows` of ``rows`` (or of the case alone, named after its file) after checking
     that the case has a seeded ``[load.perturbation]``."""
-    from drape.case.case import CaseError, load_case
-    from drape.batch.sweep import SweepError
-
     try:
         perturbation = load_case(case_path, overrides).load.perturbation
     except CaseError as exc:
@@ -124,8 +122,6 @@ def ensemble_stats(records: list[dict]) -> dict:
 
 def ensembles(out_dir) -> list[dict]:
     """The ensembles of a sweep folder (``sweep.json`` groups, ``results.csv`` records)."""
-    from drape.batch.sweep import MEASURED, read_results
-
     out_dir = Path(out_dir)
     definition = json.loads((out_dir / "sweep.json").read_text())
     records = {r["name"]: r for r in read_results(out_dir / "results.csv")}

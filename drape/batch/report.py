@@ -25,6 +25,10 @@ from pathlib import Path
 
 import numpy as np
 
+from drape.batch.rows import RESULT_COLUMNS, read_results
+from drape.run.cli import EXIT_BAD_INPUT, Parser
+from drape.run.output import read_pvd
+
 __all__ = ["top_view_figure", "draw_top_view", "dc_figure", "history_figure", "sweep_report", "run_report",
            "write_report", "main"]
 
@@ -58,8 +62,6 @@ def _figure(size):
 
 
 def _last_vtu(run_dir: Path, pvd: str | None = None) -> Path | None:
-    from drape.run.output import read_pvd
-
     pvds = [run_dir / pvd] if pvd else sorted(run_dir.glob("*.pvd"))
     for path in pvds:
         if path.exists():
@@ -204,8 +206,6 @@ def _in_sweep_order(records: list[dict], definition: dict | None) -> list[dict]:
 
 def sweep_report(out_dir) -> str:
     """HTML of the report of a sweep folder (``results.csv``, ``sweep.json``, ``runs/``)."""
-    from drape.batch.sweep import RESULT_COLUMNS, read_results
-
     out_dir = Path(out_dir)
     path = out_dir / "sweep.json"
     definition = json.loads(path.read_text()) if path.exists() else None
@@ -328,8 +328,6 @@ def write_report(out_dir) -> Path:
 
 def main(argv: list[str] | None = None) -> int:
     """Command-line entry point; returns the exit code (:data:`drape.run.cli.EXIT_CODES`)."""
-    from drape.run.cli import EXIT_BAD_INPUT, Parser
-
     p = Parser(prog="python -m drape.report",
                                 description="Write OUTDIR/report.html for a sweep or a run folder "
                                             "(self-contained: opens offline).")
@@ -345,6 +343,8 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    from drape.batch.report import main as _main   # the imported module's main: its classes are the ones raised
+    from drape.batch.report import (
+        main as _main,  # the imported module's main: its classes are the ones raised
+    )
 
     sys.exit(_main())

@@ -25,6 +25,11 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from drape.batch.ensemble import ensemble_stats, seed_rows
+from drape.batch.rows import SweepRow, _checked, read_results
+from drape.batch.sweep import run_sweep
+from drape.case.case import CaseError, load_case
+
 __all__ = ["Level", "Factor", "BASE", "StudyError", "study_rows", "collect", "markdown_table",
            "factor_sentences", "tornado_figure", "write_study", "run_study"]
 
@@ -101,9 +106,6 @@ def study_rows(factors, seeds: int = 1):
     >>> [(r.name, r.keys) for r in study_rows([f])]
     [('base', {}), ('damping.low', {'model.damping.alpha': '5'})]
     """
-    from drape.batch.ensemble import seed_rows
-    from drape.batch.sweep import SweepRow, _checked
-
     names = [f.name for f in factors]
     if len(set(names)) != len(names):
         raise StudyError(f"factor name repeated in {names}")
@@ -117,8 +119,6 @@ def study_rows(factors, seeds: int = 1):
 # --------------------------------------------------------------------------- results
 def _level_record(records: list[dict]) -> dict:
     """DC and nodes of one level from its results.csv records (one per seed)."""
-    from drape.batch.ensemble import ensemble_stats
-
     stats = ensemble_stats(records)
     dc, nodes = stats["DC_percent"], stats["nodes"]
     reasons = sorted({f"{r.get('status', '')}: {r.get('reason', '')}".rstrip(": ")
@@ -145,9 +145,6 @@ def collect(out, case_path, factors, *, overrides: list[str] | None = None,
 
     Levels missing from ``results.csv`` (not run yet) are recorded with status ``not run``.
     """
-    from drape.case.case import CaseError, load_case
-    from drape.batch.sweep import read_results
-
     out = Path(out)
     path = out / "results.csv"
     records = read_results(path) if path.exists() else []
@@ -358,8 +355,6 @@ def run_study(case_path, factors, out, *, overrides: list[str] | None = None, se
     runs of ``out`` and runs the others; the study must then have the same ``overrides``
     (``StudyError`` otherwise: a different study needs a new folder).
     """
-    from drape.batch.sweep import run_sweep
-
     out = Path(out)
     if seeds < 1:
         raise StudyError(f"seeds = {seeds}: must be >= 1")
@@ -371,7 +366,6 @@ def run_study(case_path, factors, out, *, overrides: list[str] | None = None, se
         if before.get("set") != overrides:
             raise StudyError(f"--resume: {out} ran with --set {before.get('set')}, this study "
                              f"gives {overrides}; use a new --out for a different study")
-    from drape.case.case import CaseError, load_case
 
     for row in rows:      # a level that cannot be a case is a bad study, not a failed run
         try:

@@ -39,32 +39,28 @@ into it, the scheduler cannot be reached), 130 interrupted (Ctrl-C), 143 termina
 """
 from __future__ import annotations
 
-import argparse
 import csv
-import itertools
 import json
 import math
 import os
-import re
 import socket
 import sys
 import time
 import uuid
-from dataclasses import dataclass, field
 from pathlib import Path
 
-from drape.case.case import CaseError
-from drape.run.cli import EXIT_CODES, EXIT_OK, Parser, code_of, describe, fail, one_line
+from constitutive.units import G0
+from drape.batch.rows import MEASURED, RESULT_COLUMNS, SweepError, SweepRow, read_results
+from drape.case.build import build
+from drape.case.case import CaseError, dump_case, load_case
+from drape.run.checkpoint import CHECKPOINT, CheckpointError, read_checkpoint
+from drape.run.cli import describe, one_line
 from drape.run.lock import folder_lock
-from drape.run.termination import sigterm_raises, stopped
+from drape.run.runner import ResumeError, read_summary, run_case
 
-__all__ = ["SweepRow", "SweepError", "read_table", "grid_rows", "run_row", "run_sweep",
-           "RESULT_COLUMNS", "read_results", "main"]
+__all__ = ['SINGLE_THREADED', 'run_row', 'run_sweep']
 
-#: Output columns of results.csv after the input columns.
-RESULT_COLUMNS = ("status", "reason", "DC_percent", "nodes", "settling_time_s", "t_final_s",
-                  "steps", "wall_time_s", "bending_length_m", "B_warp_Nm", "B_weft_Nm",
-                  "weight_N_per_m2", "run_dir", "pvd", "worker")
+
 
 #: Statuses that mean "this run has to be run again" on ``--resume``.
 UNFINISHED = ("interrupted", "terminated", "lost")
@@ -73,107 +69,7 @@ UNFINISHED = ("interrupted", "terminated", "lost")
 SINGLE_THREADED = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
                    "OPENBLAS_NUM_THREADS": "1"}
 
-MEASURED = "measured."
-_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
 
-
-class SweepError(ValueError):
-    """A run table, grid or sweep folder breaks a rule (the message names it)."""
-
-
-@dataclass(frozen=True)
-class SweepRow:
-    """One run of a sweep: its name, its case overrides and the measured values beside it."""
-
-    name: str
-    keys: dict = field(default_factory=dict)       # dotted case key -> value text
-    measured: dict = field(default_factory=dict)   # "measured.<quantity>" -> value text
-    group: str = ""                                # the seed ensemble it belongs to
-
-    def overrides(self) -> list[str]:
-        """The row as ``--set`` items."""
-        return [f"{k}={v}" for k, v in self.keys.items()]
-
-
-# --------------------------------------------------------------------------- rows
-def read_table(path) -> list[SweepRow]:
-    """Rows of a run table (CSV with a header; see the module docstring).
-
-    >>> import io, tempfile, os
-    >>> with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as fh:
-    ...     _ = fh.write("name,material.bending_scale,measured.DC\\nstiff,2,31.5\\nbase,,\\n")
-    >>> rows = read_table(fh.name); os.unlink(fh.name)
-    >>> [(r.name, r.keys, r.measured) for r in rows]
-    [('stiff', {'material.bending_scale': '2'}, {'measured.DC': '31.5'}), ('base', {}, {})]
-    """
-    path = Path(path)
-    try:
-        with open(path, newline="") as fh:
-            lines = [[cell.strip() for cell in rec] for rec in csv.reader(fh)]
-    except FileNotFoundError:
-        raise SweepError(f"run table {str(path)!r} does not exist") from None
-    columns, records = (lines[0], lines[1:]) if lines else ([], [])
-    if not columns:
-        raise SweepError(f"run table {path}: no header row (a 'name' column and case keys)")
-    for col in columns:
-        if not col or (col != "name" and not col.startswith(MEASURED) and "." not in col):
-            raise SweepError(f"run table {path}: column {col!r} is neither 'name', a dotted case "
-                             f"key (e.g. material.bending_scale) nor measured.<quantity>")
-    if len(set(columns)) != len(columns):
-        raise SweepError(f"run table {path}: repeated column in {columns}")
-    rows = []
-    for i, rec in enumerate(r for r in records if any(r)):
-        if len(rec) != len(columns):
-            raise SweepError(f"run table {path}, row {i + 1}: {len(rec)} cells for "
-                             f"{len(columns)} columns")
-        cells = dict(zip(columns, rec))
-        name = cells.pop("name", "") or f"run{i:03d}"
-        keys = {k: v for k, v in cells.items() if v and not k.startswith(MEASURED)}
-        measured = {k: v for k, v in cells.items() if v and k.startswith(MEASURED)}
-        rows.append(SweepRow(name, keys, measured))
-    return _checked(rows, f"run table {path}")
-
-
-def grid_rows(specs: list[str]) -> list[SweepRow]:
-    """Rows of the product of ``KEY=V1,V2,...`` value lists (the last key varies fastest).
-
-    >>> [r.keys for r in grid_rows(["mesh.nx=4,8", "material.friction=true,false"])][:2]
-    [{'mesh.nx': '4', 'material.friction': 'true'}, {'mesh.nx': '4', 'material.friction': 'false'}]
-    """
-    axes = []
-    for spec in specs:
-        key, sep, values = spec.partition("=")
-        key = key.strip()
-        if not sep or "." not in key:
-            raise SweepError(f"--grid {spec!r}: expected KEY=V1,V2,... with a dotted case KEY")
-        items = [v.strip() for v in values.split(",")]
-        if not all(items):
-            raise SweepError(f"--grid {spec!r}: empty value in the list")
-        axes.append([(key, v) for v in items])
-    if not axes:
-        raise SweepError("--grid: give at least one KEY=V1,V2,...")
-    keys = [axis[0][0] for axis in axes]
-    if len(set(keys)) != len(keys):
-        raise SweepError(f"--grid: key given twice in {keys}")
-    rows = [SweepRow(f"run{i:03d}", dict(combo)) for i, combo in enumerate(itertools.product(*axes))]
-    return _checked(rows, "--grid")
-
-
-def _checked(rows: list[SweepRow], where: str) -> list[SweepRow]:
-    if not rows:
-        raise SweepError(f"{where}: no runs")
-    seen = set()
-    for row in rows:
-        if not _NAME.match(row.name):
-            raise SweepError(f"{where}: run name {row.name!r} must be letters, digits, '.', '_' "
-                             f"or '-' (it names the run's folder)")
-        if row.name in seen:
-            raise SweepError(f"{where}: run name {row.name!r} appears twice")
-        seen.add(row.name)
-    return rows
-
-
-# --------------------------------------------------------------------------- one run
 def _one_line(exc: BaseException) -> str:
     text = " ".join(part.strip() for part in str(exc).splitlines() if part.strip())
     return f"{type(exc).__name__}: {text}" if not isinstance(exc, (CaseError, ValueError)) else text
@@ -189,8 +85,6 @@ def _material_columns(material) -> dict:
     The bending length of the fabric uses the geometric mean of the warp and weft B, i.e. it
     is the geometric mean of the two directions' bending lengths.
     """
-    from constitutive.units import G0
-
     kes = material.simulated_kes()
     b_warp, b_weft = float(kes["warp"].B), float(kes["weft"].B)
     weight = float(material.areal_mass) * G0
@@ -209,15 +103,11 @@ def _worker_address() -> str:
 
 def _continues(case, run_dir: Path) -> bool:
     """True when ``run_dir`` holds a stopped run of exactly ``case`` with a checkpoint."""
-    from drape.run.checkpoint import CHECKPOINT
-
     return (run_dir / CHECKPOINT).exists() and _same_case(case, run_dir)
 
 
 def _same_case(case, run_dir: Path) -> bool:
     """True when ``run_dir/case.resolved.toml`` is ``case``."""
-    from drape.case.case import dump_case
-
     resolved = run_dir / "case.resolved.toml"
     if not resolved.exists():
         return False
@@ -235,10 +125,6 @@ def run_row(case_path: str, overrides: list[str], run_dir: str, resume: bool = F
     """
     for key, value in SINGLE_THREADED.items():
         os.environ.setdefault(key, value)
-    from drape.case.build import build
-    from drape.case.case import load_case
-    from drape.run.checkpoint import read_checkpoint
-    from drape.run.runner import run_case
 
     wall0 = time.perf_counter()
     out = {"run_dir": run_dir, "worker": _worker_address()}
@@ -280,8 +166,6 @@ def _summary_columns(summary: dict) -> dict:
 
 def _finished_run(case, run_dir: Path) -> dict | None:
     """The summary of a run of exactly ``case`` that finished in ``run_dir``, else None."""
-    from drape.run.runner import ResumeError, read_summary
-
     try:
         summary = read_summary(run_dir)
     except ResumeError:
@@ -294,8 +178,6 @@ def _finished_run(case, run_dir: Path) -> dict | None:
 def _checkpoint(case, run_dir: Path):
     """The checkpoint of a stopped run of exactly ``case`` in ``run_dir``; None when there is
     none or it cannot be read (the row then runs from its start)."""
-    from drape.run.checkpoint import CheckpointError, read_checkpoint
-
     if not _continues(case, run_dir):
         return None
     try:
@@ -304,11 +186,6 @@ def _checkpoint(case, run_dir: Path):
         return None
 
 
-# --------------------------------------------------------------------------- results
-def read_results(path) -> list[dict]:
-    """Rows of a results.csv (all values as text)."""
-    with open(path, newline="") as fh:
-        return list(csv.DictReader(fh))
 
 
 class _Results:
@@ -503,128 +380,3 @@ def _read_definition(out: Path):
     data = json.loads(path.read_text())
     rows = [SweepRow(r["name"], r["keys"], r["measured"], r.get("group", "")) for r in data["rows"]]
     return data["case"], rows, data["set"]
-
-
-# --------------------------------------------------------------------------- CLI
-def _parser() -> argparse.ArgumentParser:
-    p = Parser(
-        prog="python -m drape.sweep",
-        description="Run a base case over a run table or a grid of case keys, on Dask; "
-                    "results.csv gets one row per finished run.",
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog="examples:\n"
-               "  python -m drape.sweep cases/cusick_kes.toml --table cases/kes_catalogue.csv "
-               "--out out/catalogue\n"
-               "  python -m drape.sweep cases/cantilever.toml --grid material.bending_scale=0.5,1,2 "
-               "--out out/scale\n"
-               "  python -m drape.sweep cases/cusick_kes.toml --seeds 5 --out out/seeds\n"
-               "  python -m drape.sweep --resume --out out/catalogue\n"
-               "  python -m drape.sweep ... --scheduler tcp://10.0.0.5:8786   (an existing "
-               "cluster)\n\n" + EXIT_CODES,
-    )
-    p.add_argument("case", nargs="?", help="base case file (TOML)")
-    rows = p.add_mutually_exclusive_group()
-    rows.add_argument("--table", metavar="CSV", help="run table: name, case keys, measured.*")
-    rows.add_argument("--grid", metavar="KEY=V1,V2", action="append",
-                      help="values of one case key; repeat for a product of several keys")
-    p.add_argument("--seeds", type=int, metavar="N", help="run every row (or the case alone) under "
-                   "the perturbation seeds 0..N-1; DIR/ensemble.json summarises each row's seeds")
-    p.add_argument("--out", metavar="DIR", required=True, help="sweep folder")
-    add_batch_options(p, resume="keep the finished rows of DIR/results.csv and run the others",
-                      quiet="no progress bar, no final table")
-    p.add_argument("--dashboard", action="store_true",
-                   help="serve the local cluster's Dask dashboard on 127.0.0.1 (it has no "
-                        "authentication; off by default)")
-    return p
-
-
-def add_batch_options(p, resume: str, quiet: str = "no progress bars") -> None:
-    """The options every batch of runs on Dask shares (sweep, validation set, sensitivity study):
-    ``--set``, ``--scheduler``, ``--workers``, ``--resume`` and ``--quiet`` (their help: ``resume``, ``quiet``)."""
-    p.add_argument("--set", metavar="KEY=VALUE", action="append", default=[], dest="overrides",
-                   help="override a case key in every run (as in drape.run.runner)")
-    p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="Dask scheduler of an existing cluster, e.g. tcp://HOST:8786 "
-                        "(default: DASK_SCHEDULER_ADDRESS, else a local cluster)")
-    p.add_argument("--workers", type=int, metavar="N",
-                   help="worker processes of the local cluster (default: one per core)")
-    p.add_argument("--resume", action="store_true", help=resume)
-    p.add_argument("--quiet", action="store_true", help=quiet)
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point; returns the exit code (:data:`drape.run.cli.EXIT_CODES`)."""
-    args = _parser().parse_args(argv)
-    out = Path(args.out)
-    with sigterm_raises():
-        try:
-            records = _sweep(args, out)
-        except KeyboardInterrupt as exc:
-            return stopped(exc, "sweep", f"finished runs are in {out / 'results.csv'} "
-                                         f"(continue with --resume)")
-        except (Exception) as exc:    # every problem is one line, with the code of its kind
-            return fail(describe(exc), code_of(exc))
-    _print_records(records, out, args.quiet)
-    return _finish(out, args.quiet)
-
-
-def _sweep(args, out: Path) -> list[dict]:
-    """The rows the options give, run (:func:`run_sweep`)."""
-    if args.workers is not None and args.workers < 1:
-        raise SweepError(f"--workers = {args.workers}: must be >= 1")
-    if args.seeds is not None and args.seeds < 1:
-        raise SweepError(f"--seeds = {args.seeds}: must be >= 1")
-    if args.case is None:
-        if not args.resume:
-            raise SweepError("the base case file is required (or --resume --out DIR)")
-        case_path, rows, overrides = _read_definition(out)
-    else:
-        if not (args.table or args.grid or args.seeds):
-            raise SweepError("give the runs: --table CSV, --grid KEY=V1,V2,... or --seeds N")
-        rows = read_table(args.table) if args.table else grid_rows(args.grid) if args.grid else None
-        case_path, overrides = args.case, args.overrides
-        if not Path(case_path).is_file():
-            raise SweepError(f"case file {case_path!r} does not exist")
-        if args.seeds is not None:
-            from drape.batch.ensemble import seeded
-
-            rows = _checked(seeded(case_path, overrides, rows, args.seeds), "--seeds")
-    return run_sweep(case_path, rows, out, overrides=overrides, scheduler=args.scheduler,
-                     workers=args.workers, resume=args.resume, quiet=args.quiet,
-                     dashboard=args.dashboard)
-
-
-def _print_records(records: list[dict], out: Path, quiet: bool) -> None:
-    if quiet:
-        return
-    for rec in records:
-        dc = f", DC {float(rec['DC_percent']):.1f} %" if rec["DC_percent"] != "" else ""
-        why = f": {rec['reason']}" if rec["reason"] else ""
-        print(f"{rec['name']}: {rec['status']}{dc}{why}")
-    print(f"results in {out / 'results.csv'}")
-
-
-def _finish(out: Path, quiet: bool) -> int:
-    """ensemble.json and report.html of the finished sweep; the exit code."""
-    from drape.batch.ensemble import describe_ensemble, ensembles, write_ensembles
-    from drape.batch.report import write_report
-
-    try:
-        if write_ensembles(out) is not None and not quiet:
-            print("\n".join(describe_ensemble(e) for e in ensembles(out)))
-        report = write_report(out)
-    except Exception as exc:  # the runs and results.csv are done; the page can be made again
-        print(f"report.html not written ({_one_line(exc)}); try python -m drape.report {out}",
-              file=sys.stderr)
-        return EXIT_OK
-    if not quiet:
-        print(f"report in {report}")
-    return EXIT_OK
-
-
-if __name__ == "__main__":
-    # run the imported module's main, not this copy's: under ``python -m`` this file is
-    # loaded twice, and only the imported copy's SweepError is the one the layers raise
-    from drape.batch.sweep import main as _main
-
-    sys.exit(_main())

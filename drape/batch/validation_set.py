@@ -24,7 +24,15 @@ import sys
 from pathlib import Path
 
 from constitutive.bundled import cases_dir
+from drape.batch.ensemble import ensembles, seed_rows, write_ensembles
+from drape.batch.report import draw_top_view, write_report
+from drape.batch.rows import SweepError, read_results
+from drape.batch.sweep import run_sweep
+from drape.batch.sweep_cli import add_batch_options
 from drape.case.case import CaseError, load_case
+from drape.run.cli import EXIT_BAD_INPUT, EXIT_IO, describe
+from drape.run.output import read_pvd
+from drape.run.termination import sigterm_raises, stopped
 
 __all__ = ["ValidationSetError", "validation_cases", "run_validation", "comparison_table",
            "validation_figure", "main"]
@@ -58,9 +66,6 @@ def validation_cases(directory, overrides: list[str] | None = None) -> list[tupl
 
 def _representative_vtu(out: Path, ensemble: dict) -> str | None:
     """The last VTU of the first seed whose node count is the ensemble's most frequent."""
-    from drape.run.output import read_pvd
-    from drape.batch.sweep import read_results
-
     for rec in read_results(out / "results.csv"):
         if rec["name"] in ensemble["DC_percent"]["values"] and rec.get("nodes") not in (None, "") \
                 and int(float(rec["nodes"])) == ensemble["nodes"]["mode"] and rec.get("pvd"):
@@ -76,10 +81,6 @@ def run_validation(directory, out, *, seeds: int = 1, overrides: list[str] | Non
                    resume: bool = False, quiet: bool = False) -> list[dict]:
     """Run every case of ``directory`` as a seed ensemble into ``out/<stem>``; return one
     comparison record per case (also written to ``out/validation.json``)."""
-    from drape.batch.ensemble import ensembles, seed_rows, write_ensembles
-    from drape.batch.report import write_report
-    from drape.batch.sweep import run_sweep
-
     out = Path(out)
     records = []
     for path, case in validation_cases(directory, overrides):
@@ -146,7 +147,6 @@ def validation_figure(records: list[dict], size: float = 3.6):
     """
     from matplotlib.figure import Figure
 
-    from drape.batch.report import draw_top_view
 
     fig = Figure(figsize=(size * len(records), size + 0.8), layout="constrained")
     for i, r in enumerate(records):
@@ -166,10 +166,6 @@ def validation_figure(records: list[dict], size: float = 3.6):
 
 def main(argv: list[str] | None = None) -> int:
     """Command-line entry point; returns the exit code (:data:`drape.run.cli.EXIT_CODES`)."""
-    from drape.run.cli import EXIT_BAD_INPUT, EXIT_IO, describe
-    from drape.batch.sweep import SweepError, add_batch_options
-    from drape.run.termination import sigterm_raises, stopped
-
     p = argparse.ArgumentParser(prog="python -m drape.validate", description=(
         "Run the validation cases (Cusick cases with a [measured] table) as seed ensembles and "
         "print simulated against measured drape; writes OUT/validation.json and validation.png."))
@@ -206,6 +202,8 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    from drape.batch.validation_set import main as _main   # the imported module's main: its classes are the ones raised
+    from drape.batch.validation_set import (
+        main as _main,  # the imported module's main: its classes are the ones raised
+    )
 
     sys.exit(_main())

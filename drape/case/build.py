@@ -11,10 +11,17 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+import meshes
+from constitutive.material import MaterialError, load_material, material_from_spec
 from constitutive.units import G0
-
+from drape.analyses.drape_coefficient import skirt_tension
 from drape.case.case import Case, check_boundaries
 from drape.case.loads import kes_curvature, load_amplitudes
+from drape.models.perturbation import FoldPerturbation, perturbation_dofs
+from drape.models.plate import KirchhoffPlate, pure_bending_rotations
+from drape.models.shell import KirchhoffLoveShell
+from drape.solvers.linear import DirectSolver
+from drape.solvers.newton import NewtonPolicy
 
 __all__ = ["RunInputError", "Parts", "build", "build_mesh", "build_material", "build_model",
            "rayleigh_coefficients", "fold_perturbation", "initial_fields"]
@@ -84,8 +91,6 @@ def triangles_asked(spec) -> float:
 
 
 def _make_mesh(spec):
-    import meshes
-
     asked = triangles_asked(spec)
     if asked > MAX_TRIANGLES:   # before any array is made: the sizes may be absurd
         raise RunInputError(f"mesh: {asked:.3g} triangles asked for, more than {MAX_TRIANGLES:,}; "
@@ -112,8 +117,6 @@ def _make_mesh(spec):
 
 def build_material(case: Case):
     """The fabric of ``[material]`` with the case's overrides applied (SI)."""
-    from constitutive.material import MaterialError, load_material, material_from_spec
-
     spec = case.material
     if spec.kes is not None:
         # the same builder (and KES -> SI conversion) as a material file's [kes] table
@@ -149,7 +152,6 @@ def membrane_tension(case: Case, material) -> float | None:
     gravity = case.load.gravity
     if case.mesh.kind != "cusick" or gravity is None or gravity.factor == 0:
         return None
-    from drape.analyses.drape_coefficient import skirt_tension
 
     return skirt_tension(material.areal_mass * G0 * abs(gravity.factor),
                          case.mesh.specimen_diameter / 2.0, case.mesh.disc_diameter / 2.0)
@@ -172,8 +174,6 @@ def build_model(case: Case, mesh, material):
     rayleigh = rayleigh_coefficients(case, material)
     loads = load_amplitudes(case, mass_damping=rayleigh[0])
     if spec.kinematics == "small":
-        from drape.models.plate import KirchhoffPlate, pure_bending_rotations
-
         rotations = None
         if case.load.kes is not None:
             rotations = pure_bending_rotations(kes_curvature(case), case.mesh.length,
@@ -185,7 +185,6 @@ def build_model(case: Case, mesh, material):
             translational_inertia=spec.translational_inertia,
             friction_tangent=spec.friction_tangent,
         )
-    from drape.models.shell import KirchhoffLoveShell
 
     # what the shell cannot do is rejected by the case schema (drape.case.case.Case._consistent)
     clamped = tuple(b for b, kind in spec.supports.items() if kind == "clamped")
@@ -211,7 +210,6 @@ def fold_perturbation(case: Case):
     p = case.load.perturbation
     if p is None or p.kind == "none":
         return None
-    from drape.models.perturbation import FoldPerturbation
 
     return FoldPerturbation(disc_radius=0.5 * case.mesh.disc_diameter,
                             specimen_radius=0.5 * case.mesh.specimen_diameter, **p.model_dump())
@@ -227,7 +225,6 @@ def initial_fields(case: Case, model):
     fold = fold_perturbation(case)
     if fold is None or fold.target == "force":
         return None, None
-    from drape.models.perturbation import perturbation_dofs
 
     x0 = perturbation_dofs(model.basis, fold)
     return (x0, None) if fold.target == "displacement" else (None, x0)
@@ -240,9 +237,6 @@ def solver_options(case: Case, model) -> dict:
     (:class:`drape.solvers.newton.NewtonPolicy`); the direct solver is symmetric when the model's
     tangents are, and keeps its symbolic analysis for the whole run.
     """
-    from drape.solvers.linear import DirectSolver
-    from drape.solvers.newton import NewtonPolicy
-
     s = case.solver
     tangents = tuple(dict.fromkeys((case.model.friction_tangent, "stick")))
     return dict(rtol=s.rtol, atol=s.atol, du_rtol=s.du_rtol, du_atol=s.du_atol, max_iter=s.max_iter,

@@ -66,12 +66,30 @@ from pathlib import Path
 from pydantic import ValidationError, model_validator
 
 from constitutive.schema_errors import format_errors
-from drape.case.loads import (Agitation, Amplitude, EndMoment, Gravity, KesDrive, LoadSpec,  # noqa: F401
-                         Perturbation, Pressure)
-from drape.case.schema import (CaseInfo, CusickMesh, Damping, FileMesh, LawOverride,  # noqa: F401
-                          CaseMaterial, Membrane, MeshSpec, ModelSpec, OutputSpec,
-                          MeasuredSpec, RectangleMesh, SolverSpec, StopSpec, StripMesh, _rule,
-                          _Section)
+from drape.case.help import describe
+from drape.case.loads import (  # noqa: F401
+    Agitation,
+    Amplitude,
+    EndMoment,
+    Gravity,
+    KesDrive,
+    LoadSpec,
+    Perturbation,
+    Pressure,
+)
+from drape.case.material_tables import CaseMaterial, LawOverride  # noqa: F401
+from drape.case.mesh_tables import CusickMesh, FileMesh, MeshSpec, RectangleMesh, StripMesh  # noqa: F401
+from drape.case.quantities import _Section, _rule
+from drape.case.schema import (  # noqa: F401  (the tables, importable with the case)
+    CaseInfo,
+    Damping,
+    MeasuredSpec,
+    Membrane,
+    ModelSpec,
+    OutputSpec,
+    SolverSpec,
+    StopSpec,
+)
 
 __all__ = [
     "Case",
@@ -302,6 +320,4 @@ def describe_schema() -> str:
     >>> "[solver]" in describe_schema()
     True
     """
-    from drape.case.help import describe
-
     return describe(Case)

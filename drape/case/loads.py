@@ -13,8 +13,9 @@ from typing import Annotated, Callable, Literal
 import numpy as np
 from pydantic import Field, field_validator, model_validator
 
+from constitutive.kes import kes_profile
 from constitutive.units import G0
-from drape.case.schema import Q, _rule, _Section
+from drape.case.quantities import Q, _rule, _Section
 from drape.models.loads import amplitude
 
 __all__ = ["Amplitude", "Gravity", "Pressure", "EndMoment", "KesDrive",
@@ -126,8 +127,6 @@ class KesDrive(_Section):
         >>> KesDrive().duration()
         21.5
         """
-        from constitutive.kes import kes_profile
-
         return float(kes_profile(t=[0.0], **self.profile_kwargs()).phase_times[-1])
 
 
@@ -310,8 +309,6 @@ def kes_curvature(case) -> Callable[[float], tuple[float, float, float]]:
     see the profile's rates, not Newmark's estimates of them. After the profile's last phase
     the strip is held at its final curvature, at rest.
     """
-    from constitutive.kes import kes_profile
-
     kwargs = case.load.kes.profile_kwargs()
     t_end = float(kes_profile(t=[0.0], **kwargs).phase_times[-1])
 

@@ -3,64 +3,26 @@
 Every table rejects unknown keys. Numbers are SI (m, kg, s, N); any dimensional number may
 instead be written as a string with units (``length = "5 cm"``), converted with pint. A key's
 docstring is its documentation (``python -m drape.run --help-case``). The ``[load]`` tables
-are in :mod:`drape.case.loads`; the whole case and its cross-table rules in :mod:`drape.case.case`.
+are in :mod:`drape.case.loads`, ``[mesh]`` in :mod:`drape.case.mesh_tables`, ``[material]`` in
+:mod:`drape.case.material_tables`; the whole case and its cross-table rules in :mod:`drape.case.case`.
 """
 from __future__ import annotations
 
-import math
 import re
 from typing import Annotated, Literal, Union
 
-from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainValidator, WithJsonSchema,
-                      field_validator, model_validator)
+from pydantic import (
+    Field,
+    PlainValidator,
+    WithJsonSchema,
+    field_validator,
+    model_validator,
+)
 
-from constitutive.material import KesFabricSpec
+from drape.analyses import ANALYSES
+from drape.case.quantities import Q, _quantity, _rule, _Section
 
-# --------------------------------------------------------------------------- quantities
-def _ureg():
-    from constitutive.units import ureg  # one registry for the project (knows gf, gmf)
-
-    return ureg
-
-
-def _quantity(unit: str):
-    """Before-validator: accept a number (SI) or a string with units convertible to ``unit``."""
-
-    def convert(value):
-        if isinstance(value, str):
-            import pint
-
-            from constitutive.units import parse_quantity
-
-            try:
-                si = float(parse_quantity(value).to(unit).magnitude)
-                if not math.isfinite(si):
-                    raise ValueError(f"out of range in {unit or 'dimensionless'} units")
-                return si
-            except (pint.errors.PintError, ValueError) as exc:
-                raise ValueError(
-                    f"cannot read {value!r} as a quantity in {unit or 'dimensionless'} units ({exc})"
-                ) from None
-        return value
-
-    return BeforeValidator(convert)
-
-
-def Q(unit: str, **field_kwargs):
-    """A float field in SI ``unit`` that also accepts unit strings (``"5 cm"``)."""
-    return Annotated[float, _quantity(unit), Field(**field_kwargs)]
-
-
-_CONFIG = ConfigDict(extra="forbid", strict=True, use_attribute_docstrings=True, allow_inf_nan=False)
-
-
-class _Section(BaseModel):
-    model_config = _CONFIG
-
-
-def _rule(message: str):
-    """Cross-key rule error; ``@.`` in ``message`` becomes the dotted path of the table."""
-    return ValueError(message)
+__all__ = ['CaseInfo', 'Damping', 'Membrane', 'ModelSpec', 'SolverSpec', 'OutputSpec', 'MeasuredSpec', 'DEFAULT_OUT_OF_BALANCE', 'StopSpec']
 
 
 # --------------------------------------------------------------------------- [case]
@@ -89,7 +51,6 @@ class CaseInfo(_Section):
     @field_validator("analysis")
     @classmethod
     def _known_analysis(cls, value):  # the registry is read at validation: scripts may add to it
-        from drape.analyses import ANALYSES
 
         if value not in ANALYSES:
             raise ValueError(f"must be one of {', '.join(repr(a) for a in ANALYSES)}")
@@ -97,175 +58,8 @@ class CaseInfo(_Section):
 
 
 # --------------------------------------------------------------------------- [mesh]
-class _MeshBase(_Section):
-    element: Literal["morley", "argyris"] = "argyris"
-    """Finite element: ``morley`` (quadratic, small deflection only) or ``argyris`` (quintic)."""
 
 
-class StripMesh(_MeshBase):
-    """[mesh] kind = "strip": [0, length] x [0, width]; boundaries ``clamped`` (= ``left``, x = 0),
-    ``free_end`` (= ``right``), ``bottom``, ``top``."""
-
-    kind: Literal["strip"]
-    length: Q("m", gt=0)
-    """Strip length along x (warp) [m]."""
-    width: Q("m", gt=0)
-    """Strip width along y [m]."""
-    nx: int = Field(ge=1)
-    """Divisions along the length."""
-    ny: int = Field(1, ge=1)
-    """Divisions across the width."""
-
-
-class RectangleMesh(_MeshBase):
-    """[mesh] kind = "rectangle": [0, length] x [0, width]; boundaries ``left``, ``right``,
-    ``bottom``, ``top``."""
-
-    kind: Literal["rectangle"]
-    length: Q("m", gt=0)
-    """Side along x (warp) [m]."""
-    width: Q("m", gt=0)
-    """Side along y (weft) [m]."""
-    nx: int = Field(ge=1)
-    """Divisions along x."""
-    ny: int = Field(ge=1)
-    """Divisions along y."""
-
-
-class CusickMesh(_MeshBase):
-    """[mesh] kind = "cusick": the overhanging annulus, centred at 0; boundaries ``disc``, ``hem``."""
-
-    kind: Literal["cusick"]
-    specimen_diameter: Q("m", gt=0) = 0.30
-    """Specimen diameter [m] (standard: 0.24, 0.30 or 0.36)."""
-    disc_diameter: Q("m", gt=0) = 0.18
-    """Support disc diameter [m]."""
-    target_size: Q("m", gt=0) = 0.01
-    """Nominal element size [m]; sets the divisions not given explicitly."""
-    n_radial: int | None = Field(None, ge=1)
-    """Element rings across the overhang (default: overhang / target_size)."""
-    n_circumferential: int | None = Field(None, ge=8)
-    """Divisions around the circumference, even (default: mid circumference / target_size)."""
-    refine: int = Field(0, ge=0)
-    """Uniform refinements (divisions × 2**refine) for convergence studies."""
-    radial_grading: float = Field(1.0, ge=1.0)
-    """Outermost over innermost ring width (1: uniform); finer rings at the clamped disc edge,
-    where a limp fabric turns down within about one bending length."""
-
-    @model_validator(mode="after")
-    def _disc_inside(self):
-        if self.disc_diameter >= self.specimen_diameter:
-            raise _rule(
-                f"@.disc_diameter = {self.disc_diameter} must be smaller than "
-                f"@.specimen_diameter = {self.specimen_diameter}"
-            )
-        return self
-
-
-class FileMesh(_MeshBase):
-    """[mesh] kind = "file": an external triangle mesh read with meshio (gmsh .msh, .vtu, ...);
-    boundaries are the file's named line groups."""
-
-    kind: Literal["file"]
-    path: str
-    """Mesh file; relative paths are taken from the case file's directory."""
-    scale: float = Field(1.0, gt=0)
-    """Factor taking the file's coordinates to metres (0.01 for a file in cm)."""
-
-
-MeshSpec = Annotated[
-    Union[StripMesh, RectangleMesh, CusickMesh, FileMesh], Field(discriminator="kind")
-]
-
-
-# --------------------------------------------------------------------------- [material]
-class LawOverride(_Section):
-    """Bending-law parameters replacing those of the material (SI; all optional)."""
-
-    k1: Q("N*m", gt=0) | None = None
-    """Linear bending rigidity [N·m]."""
-    k3: Q("N*m**3", ge=0) | None = None
-    """Cubic coefficient [N·m³]."""
-    d: Q("N*m*s", ge=0) | None = None
-    """Viscous coefficient [N·m·s]."""
-    m: Q("N*m*s**2", ge=0) | None = None
-    """Curvature-inertia coefficient [N·m·s²]."""
-    f1: Q("N", ge=0) | None = None
-    """Friction moment of the first (fast) state [N·m/m = N]; must exceed f2."""
-    f2: Q("N", ge=0) | None = None
-    """Friction moment of the second state [N]."""
-    eps_f: Q("1/m", gt=0) | None = None
-    """Friction curvature length ε_f [1/m]."""
-    eta: float | None = Field(None, gt=0, lt=1)
-    """Ratio of the two friction lengths, 0 < η < 1."""
-
-    @model_validator(mode="after")
-    def _dissipative(self):
-        if self.f1 is not None and self.f2 is not None and not self.f1 > self.f2:
-            raise _rule(f"@.f1 = {self.f1} must exceed @.f2 = {self.f2} (dissipativity, 3.18)")
-        return self
-
-
-class CaseMaterial(LawOverride):
-    """[material]: the fabric. Give exactly one of ``name``, ``path`` or a ``[material.kes]`` table.
-
-    Law keys at this level (k1, k3, d, m, f1, f2, eps_f, eta) override both directions;
-    ``[material.warp]`` / ``[material.weft]`` override one direction and win over them.
-    """
-
-    name: str | None = None
-    """Material from the library in cases/materials (e.g. ``fabric1``)."""
-    path: str | None = None
-    """Material file; relative paths are taken from the case file's directory."""
-    kes: KesFabricSpec | None = None
-    """Inline KES summary values (see [material.kes])."""
-    areal_mass: Q("kg/m**2", gt=0) | None = None
-    """Override the areal mass ρ_A [kg/m²]."""
-    thickness: Q("m", gt=0) | None = None
-    """Override the thickness [m]."""
-    friction: bool = True
-    """``false`` drops the hysteretic friction moment (for friction-free comparisons)."""
-    bending_scale: float = Field(1.0, gt=0)
-    """Multiplies every bending moment of both laws (k1, k3, d, m, f1, f2; not ε_f, η), after the
-    overrides: the same fabric made stiffer or limper (bending length × bending_scale^(1/3))."""
-    warp: LawOverride = LawOverride()
-    """Overrides of the warp law (acts on κ_xx)."""
-    weft: LawOverride = LawOverride()
-    """Overrides of the weft law (acts on κ_yy)."""
-
-    @model_validator(mode="after")
-    def _one_source(self):
-        given = [k for k in ("name", "path", "kes") if getattr(self, k) is not None]
-        if len(given) != 1:
-            raise _rule(
-                "@: give exactly one of name, path or [material.kes]"
-                + (f" (got {', '.join(given)})" if given else "")
-            )
-        friction_keys = ("f1", "f2", "eps_f", "eta")
-        if not self.friction:
-            for direction in ("warp", "weft"):
-                given = [k for k in friction_keys if k in self.law_overrides(direction)]
-                if given:
-                    raise _rule(f"@.friction = false contradicts the friction override {given[0]}")
-        for direction in ("warp", "weft"):
-            law = self.law_overrides(direction)
-            f1, f2 = law.get("f1"), law.get("f2")
-            if f1 is not None and f2 is not None and not f1 > f2:
-                k1 = f"@.{direction}.f1" if getattr(self, direction).f1 is not None else "@.f1"
-                k2 = f"@.{direction}.f2" if getattr(self, direction).f2 is not None else "@.f2"
-                raise _rule(f"{k1} = {f1} must exceed {k2} = {f2} (dissipativity, 3.18)")
-        return self
-
-    def law_overrides(self, direction: str) -> dict:
-        """Effective overrides for ``direction`` ('warp' or 'weft'): shared keys, then per-direction."""
-        shared = {k: getattr(self, k) for k in LawOverride.model_fields}
-        own = getattr(self, direction).model_dump(exclude_none=True)
-        merged = {k: v for k, v in shared.items() if v is not None}
-        merged.update(own)
-        return merged
-
-
-# --------------------------------------------------------------------------- [model]
 class Damping(_Section):
     """[model.damping]: Rayleigh damping C = (alpha + air_drag / areal mass) M + beta K0
     (added to the law's own d), or with drag_coefficient still air's quadratic drag."""

@@ -11,6 +11,8 @@ import math
 
 import numpy as np
 
+from constitutive.kes import kes_profile
+
 __all__ = ["time_phases", "hit_times", "pseudo_times"]
 
 
@@ -60,8 +62,6 @@ def hit_times(case) -> list[float]:
         elif part.ramp_time > 0:
             times.add(part.ramp_time)
     if load.kes is not None:
-        from constitutive.kes import kes_profile
-
         times.update(kes_profile(**load.kes.profile_kwargs()).phase_times.tolist())
     return sorted(t for t in times if 0.0 < t < t_end)
 

@@ -22,8 +22,13 @@ compiled
 """
 from drape.fem.argyris import ElementTriArgyrisLocal, interpolate
 from drape.fem.assembly import SparsityPattern
-from drape.fem.boundary import (argyris_element, boundary_dofs, clamped_dofs, plate_constraints,
-                                pure_bending_rotations)
+from drape.fem.boundary import (
+                                argyris_element,
+                                boundary_dofs,
+                                clamped_dofs,
+                                plate_constraints,
+                                pure_bending_rotations,
+)
 from drape.fem.compiled import njit
 
 __all__ = ["ElementTriArgyrisLocal", "interpolate", "SparsityPattern", "argyris_element",

@@ -49,7 +49,6 @@ from skfem import ElementTriMorley, ElementVector
 from skfem.element import ElementTriArgyris
 
 from constitutive.conventions import CURVATURE_SIGN
-
 from drape.fem.argyris import ElementTriArgyrisLocal, facet_normals, interpolate, same_mesh
 
 __all__ = ["StraightEdge", "straight_edge", "pure_bending_rotations", "CONDITIONS", "PlateConstraints", "plate_constraints", "argyris_element",

@@ -39,6 +39,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from drape.fem.argyris import interpolate
+
 __all__ = ["PerturbationError", "FoldPerturbation", "perturbation_dofs"]
 
 
@@ -229,7 +231,6 @@ def perturbation_dofs(basis, perturbation: FoldPerturbation) -> np.ndarray:
     """
     from skfem.element import ElementVector
 
-    from drape.fem.argyris import interpolate
 
     if isinstance(basis.elem, ElementVector):
         raise PerturbationError("perturbation_dofs: pass the scalar basis (shell.basis), "

@@ -25,7 +25,7 @@ the strip is an Euler–Bernoulli beam and the tip deflection is ρ_A g L⁴/(8B
 >>> mesh = mesh.with_boundaries({"clamped": lambda x: np.isclose(x[0], 0.0)})
 >>> mat = demo_material(B=1e-5, areal_mass=0.2)
 >>> plate = KirchhoffPlate(mesh, mat, supports={"clamped": "clamped"})
->>> from drape.solvers.newmark import quasi_static
+>>> from drape.solvers.static import quasi_static
 >>> state = quasi_static(plate, [1.0])
 >>> tip = state.u[plate.vertex_dofs][np.isclose(mesh.p[0], 0.02)].mean()
 >>> exact = -0.2 * 9.80665 * 0.02**4 / (8 * 1e-5)        # 3.9 mm
@@ -38,18 +38,14 @@ import time
 from typing import Callable, Mapping
 
 import numpy as np
-
-from constitutive.friction import restored_array
-from constitutive.law import check_friction_tangent
-from constitutive.conventions import CURVATURE_SIGN, twisting_moment
-from constitutive.units import G0
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 import skfem
 
-from drape.fem.boundary import pure_bending_rotations, straight_edge
-from drape.models.loads import as_function
-from drape.models.protocol import Evaluation, free_dofs
+from constitutive.conventions import CURVATURE_SIGN, twisting_moment
+from constitutive.friction import restored_array
+from constitutive.law import BendingLaw, check_friction_tangent
+from constitutive.units import G0
 from drape.fem.assembly import (
     SparsityPattern,
     at_quadrature,
@@ -58,15 +54,16 @@ from drape.fem.assembly import (
     element_matrix,
     element_vector,
 )
+from drape.fem.boundary import plate_constraints, prescribed_values, pure_bending_rotations, straight_edge
+from drape.models.errors import PlateInputError
+from drape.models.loads import as_function
+from drape.models.protocol import Evaluation, free_dofs
+from drape.models.sheet_material import sheet_parts
 
 __all__ = ["KirchhoffPlate", "PlateInputError", "pure_bending_rotations", "demo_material"]
 
 SUPPORT_KINDS = ("clamped", "simply_supported", "free")
 _DEFAULT_INTORDER = {"morley": 4, "argyris": 10}
-
-
-class PlateInputError(ValueError):
-    """Invalid plate-model input; the message names the parameter and the rule it breaks."""
 
 
 def _make_element(element, constraints):
@@ -82,23 +79,6 @@ def _make_element(element, constraints):
     if element == "argyris":
         return constraints.element(), "argyris"
     raise PlateInputError(f"element must be 'morley' or 'argyris', got {element!r}")
-
-
-def _material_parts(material):
-    """(areal_mass, warp_law, weft_law, twist_rigidity) from a FabricMaterial."""
-    try:
-        rho = float(material.areal_mass)
-        warp, weft = material.warp, material.weft
-        d_t = float(material.twist_rigidity)
-    except AttributeError as err:
-        raise PlateInputError(
-            f"material must provide areal_mass, warp, weft and twist_rigidity (FabricMaterial): {err}"
-        ) from None
-    if not rho >= 0.0:
-        raise PlateInputError(f"material.areal_mass must be >= 0, got {rho}")
-    if not d_t >= 0.0:
-        raise PlateInputError(f"material.twist_rigidity must be >= 0, got {d_t}")
-    return rho, warp, weft, d_t
 
 
 def _coef(law, name: str) -> float:
@@ -147,7 +127,7 @@ class KirchhoffPlate:
     Attributes
     ----------
     load_scale : float
-        Multiplies all external loads (set by :func:`drape.solvers.newmark.quasi_static`).
+        Multiplies all external loads (set by :func:`drape.solvers.static.quasi_static`).
     rayleigh : (float, float)
         The damping ``(alpha, beta)`` as given.
     """
@@ -177,8 +157,7 @@ class KirchhoffPlate:
         supports, rotations = dict(supports or {}), dict(rotations or {})
         self._constraints = self._plate_constraints(supports, rotations)
         self.elem, self.kind = _make_element(element, self._constraints)
-        rho, self.warp, self.weft, self.twist_rigidity = _material_parts(material)
-        self.areal_mass = rho
+        self.areal_mass, self.warp, self.weft, self.twist_rigidity = sheet_parts(material, PlateInputError)
         self.material = material
         self._gravity = as_function(gravity, "gravity", PlateInputError)
         self._pressure = as_function(pressure, "pressure", PlateInputError)
@@ -210,7 +189,7 @@ class KirchhoffPlate:
         pat = self.pattern
         unit = {d: pat.data(element_matrix(self._B[d], self._B[d], self._dx)) for d in ("xx", "yy")}
         twist = pat.data(element_matrix(self._B["xy"], self._B["xy"], self._dx)) * 2.0 * self.twist_rigidity
-        mass = pat.data(element_matrix(self._N, self._N, self._dx)) * rho
+        mass = pat.data(element_matrix(self._N, self._N, self._dx)) * self.areal_mass
         self._twist_data = twist
         self.K_twist = pat.from_data(twist)
         k0 = _coef(self.warp, "k1") * unit["xx"] + _coef(self.weft, "k1") * unit["yy"] + twist
@@ -248,7 +227,6 @@ class KirchhoffPlate:
 
     def _plate_constraints(self, supports, rotations):
         """Validate the boundary conditions and work out their dofs (:mod:`drape.fem.boundary`)."""
-        from drape.fem.boundary import plate_constraints
 
         conditions = {}
         for name, kind in supports.items():
@@ -269,7 +247,6 @@ class KirchhoffPlate:
             raise PlateInputError(f"supports/rotations: {err}") from None
 
     def _setup_boundaries(self, supports, rotations):
-        from drape.fem.boundary import prescribed_values
 
         pc = self._constraints
         held = [name for name, kind in supports.items() if kind != "free" and name not in rotations]
@@ -504,7 +481,7 @@ def demo_material(B: float = 1e-5, areal_mass: float = 0.2, k3: float = 0.0, d: 
 
     ``twist_rigidity`` defaults to ``B`` (the isotropic ν = 0 plate).
     """
-    from constitutive.law import BendingLaw
+    # not at the top: the material package reads material files (pydantic), the plate does not
     from constitutive.material import FabricMaterial
 
     law = BendingLaw(k1=B, k3=k3, d=d, m=m, friction=friction)

@@ -25,6 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
+from drape.solvers.newmark import NewmarkState
+
 __all__ = ["CHECKPOINT", "Checkpoint", "CheckpointError", "write_checkpoint", "read_checkpoint"]
 
 #: File name of the checkpoint in a run folder.
@@ -97,8 +99,6 @@ class CheckpointError(ValueError):
 
 
 def _read(path: Path) -> Checkpoint:
-    from drape.solvers.newmark import NewmarkState
-
     with np.load(path, allow_pickle=False) as data:
         arrays = {k: data[k] for k in data.files}
     state = NewmarkState(float(arrays.pop("state.t")), arrays.pop("state.u"), arrays.pop("state.v"),

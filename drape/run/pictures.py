@@ -31,6 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
+from constitutive.units import to_kes
+from drape.run.cli import EXIT_BAD_INPUT
 from drape.run.output import read_pvd
 
 __all__ = ["find_pvd", "available", "render_step", "plot_history", "plot_kes_loop", "main"]
@@ -206,7 +208,6 @@ def plot_kes_loop(directory, out=None) -> Path | None:
         return None
     from matplotlib.figure import Figure
 
-    from constitutive.units import to_kes
 
     fig = Figure(figsize=(6, 4.5))
     ax = fig.subplots()
@@ -243,8 +244,6 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Command-line entry point; returns the exit code (:data:`drape.run.cli.EXIT_CODES`)."""
-    from drape.run.cli import EXIT_BAD_INPUT
-
     args = _parser().parse_args(argv)
     os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
     try:
@@ -268,6 +267,8 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    from drape.run.pictures import main as _main   # the imported module's main: its classes are the ones raised
+    from drape.run.pictures import (
+        main as _main,  # the imported module's main: its classes are the ones raised
+    )
 
     sys.exit(_main())

@@ -13,14 +13,14 @@ import sys
 import time
 
 from drape.analyses import ANALYSES, RunContext
-from drape.run.checkpoint import Checkpoint, write_checkpoint
-from drape.solvers.newmark import StepControl
 from drape.models.fields import flat_fields
+from drape.run.checkpoint import Checkpoint, write_checkpoint
 from drape.run.output import OutputSchedule, OutputWriter
 from drape.run.probes import DisplacementProbe
 from drape.run.run_profile import RunProfile
-from drape.run.termination import sigterm_deferred
 from drape.run.settling import Settling
+from drape.run.termination import sigterm_deferred
+from drape.solvers.step_control import StepControl
 
 __all__ = ["Recorder", "progress_bar"]
 

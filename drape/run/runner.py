@@ -1,8 +1,8 @@
 """Run a case file: ``python -m drape.run CASE.toml [--out DIR] [--set key=value ...]``.
 
 The runner only wires parts together: the case (:mod:`drape.case.case`) is built into mesh, material
-and structural model (:mod:`drape.case.build`), integrated in time (:func:`drape.solvers.newmark.integrate`
-or :func:`drape.solvers.newmark.quasi_static`, through the phases and landing times of
+and structural model (:mod:`drape.case.build`), integrated in time (:func:`drape.solvers.time_stepping.integrate`
+or :func:`drape.solvers.static.quasi_static`, through the phases and landing times of
 :mod:`drape.case.timeline`) until ``t_end`` or until it settles (:mod:`drape.run.settling`), and written
 as it goes (:class:`drape.run.output.OutputWriter`). Every converged step is appended to
 ``history.csv``; output steps are written as VTU with the PVD index rewritten each time, so a
@@ -30,18 +30,30 @@ from pathlib import Path
 
 import numpy as np
 
+import drape.fem.shell_kernels  # noqa: F401  (define the kernels, so that cache_is_cold sees them;
+import drape.fem.shell_tangent  # noqa: F401   nothing is compiled yet)
 from drape.analyses import ANALYSES, RunContext
-from drape.case.build import (Parts, RunInputError, build, build_material, build_mesh, initial_fields,
-                         solver_options)
+from drape.case.build import (
+    Parts,
+    RunInputError,
+    build,
+    build_material,
+    build_mesh,
+    initial_fields,
+    solver_options,
+)
 from drape.case.case import Case, CaseError, describe_schema, dump_case, load_case
+from drape.case.timeline import hit_times, pseudo_times, time_phases
+from drape.fem import compiled  # compiled.cache_is_cold read at call time (tests replace it)
 from drape.run.checkpoint import CHECKPOINT, Checkpoint, read_checkpoint
-from drape.run.cli import (EXIT_CODES, EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_OK, Parser, fail,
-                       guarded)
+from drape.run.cli import EXIT_CODES, EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_OK, Parser, fail, guarded
 from drape.run.lock import folder_lock
 from drape.run.output import OutputWriter, read_history
 from drape.run.recorder import Recorder, progress_bar
 from drape.run.termination import EXIT_TERMINATED, Terminated, sigterm_raises
-from drape.case.timeline import hit_times, pseudo_times, time_phases
+from drape.solvers.newmark import ConvergenceError, initial_state
+from drape.solvers.static import quasi_static
+from drape.solvers.time_stepping import integrate
 
 __all__ = ["run_case", "resume_run", "main", "build", "build_mesh", "build_material", "initial_fields", "Parts",
            "RunInputError"]
@@ -111,10 +123,7 @@ def announce_compiling(case: Case, quiet: bool = False) -> None:
     the first run of an install waits for them, with nothing else on screen."""
     if quiet or case.model.kinematics != "large":
         return
-    import drape.fem.shell_kernels  # noqa: F401  (defines the kernels: nothing is compiled yet)
-    from drape.fem.compiled import cache_is_cold
-
-    if cache_is_cold():
+    if compiled.cache_is_cold():
         print("compiling the shell's kernels (first run only, about a minute)…", file=sys.stderr,
               flush=True)
 
@@ -185,8 +194,6 @@ def read_summary(out_dir: Path) -> dict:
 
 def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float,
               resume: Checkpoint | None) -> dict:
-    from drape.solvers import newmark
-
     ctx = RunContext(case, parts.mesh, parts.material, parts.model, out_dir)
     model, solver = parts.model, case.solver
     status, reason = "completed", f"reached t_end = {solver.t_end:g} s"
@@ -197,7 +204,7 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
         bar = progress_bar(solver.t_end, quiet)
         rec = Recorder(case, ctx, writer, bar, wall0)
         if resume is None:
-            state0 = newmark.initial_state(model, *initial_fields(case, model))
+            state0 = initial_state(model, *initial_fields(case, model))
             rec(state0)
         else:
             state0 = rec.restore(resume, read_history(writer.history_path))
@@ -209,14 +216,14 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
                 times = np.union1d(pseudo_times(solver.dt, solver.t_end), hit_times(case))
                 times = times[times > state0.t + t_eps]
                 if times.size:
-                    newmark.quasi_static(model, np.ones_like(times), times=times, state=state0,
+                    quasi_static(model, np.ones_like(times), times=times, state=state0,
                                          max_cuts=solver.max_cuts, on_step=rec, **newton)
             else:
                 state, t_start = state0, 0.0
                 for t_stop, dt_max, settling in time_phases(case):
                     if t_stop > state.t + t_eps and rec.stop_reason is None:
                         # settling: the step grows, no output marks; resumed: the phase's control
-                        state = newmark.integrate(model, t_stop, solver.dt, state=state, dt_max=dt_max,
+                        state = integrate(model, t_stop, solver.dt, state=state, dt_max=dt_max,
                                                   beta=solver.newmark_beta, gamma=solver.newmark_gamma,
                                                   alpha_hht=solver.alpha_hht, max_cuts=solver.max_cuts,
                                                   error_tolerance=solver.error_tolerance,
@@ -226,7 +233,7 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
                     t_start = t_stop
             if rec.stop_reason is not None:
                 status, reason = "settled", rec.stop_reason
-        except newmark.ConvergenceError as exc:
+        except ConvergenceError as exc:
             status, reason = "failed", f"no convergence: {exc}"
             log.error("stopped: %s", exc)
         except KeyboardInterrupt as exc:

@@ -12,9 +12,17 @@ newmark
     :func:`integrate`, :func:`newmark_step`, :func:`quasi_static`.
 """
 from drape.solvers.linear import DirectSolver, FreeRestriction, LinearSolverError, pardiso_available
-from drape.solvers.newmark import (ConvergenceError, IntegratorInputError, NewmarkState, StepControl,
-                                   initial_state, integrate, newmark_step, quasi_static)
+from drape.solvers.newmark import (
+           ConvergenceError,
+           IntegratorInputError,
+           NewmarkState,
+           initial_state,
+           newmark_step,
+)
 from drape.solvers.newton import NewtonPolicy, NewtonResult, NewtonTolerances, NonlinearProblem, newton
+from drape.solvers.static import quasi_static
+from drape.solvers.step_control import StepControl
+from drape.solvers.time_stepping import integrate
 
 __all__ = ["DirectSolver", "FreeRestriction", "LinearSolverError", "pardiso_available",
            "NonlinearProblem", "NewtonTolerances", "NewtonPolicy", "NewtonResult", "newton",

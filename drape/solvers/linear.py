@@ -48,7 +48,6 @@ import time
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-
 from numba import prange
 
 from drape.fem.compiled import njit

@@ -1,0 +1,98 @@
+"""The ``[mesh]`` table of a case: a strip, a rectangle, a Cusick annulus or a mesh file.
+"""
+from __future__ import annotations
+
+from typing import Annotated, Literal, Union
+
+from pydantic import (
+    Field,
+    model_validator,
+)
+
+from drape.case.quantities import Q, _rule, _Section
+
+__all__ = ['StripMesh', 'RectangleMesh', 'CusickMesh', 'FileMesh', 'MeshSpec']
+
+
+class _MeshBase(_Section):
+    element: Literal["morley", "argyris"] = "argyris"
+    """Finite element: ``morley`` (quadratic, small deflection only) or ``argyris`` (quintic)."""
+
+
+class StripMesh(_MeshBase):
+    """[mesh] kind = "strip": [0, length] x [0, width]; boundaries ``clamped`` (= ``left``, x = 0),
+    ``free_end`` (= ``right``), ``bottom``, ``top``."""
+
+    kind: Literal["strip"]
+    length: Q("m", gt=0)
+    """Strip length along x (warp) [m]."""
+    width: Q("m", gt=0)
+    """Strip width along y [m]."""
+    nx: int = Field(ge=1)
+    """Divisions along the length."""
+    ny: int = Field(1, ge=1)
+    """Divisions across the width."""
+
+
+class RectangleMesh(_MeshBase):
+    """[mesh] kind = "rectangle": [0, length] x [0, width]; boundaries ``left``, ``right``,
+    ``bottom``, ``top``."""
+
+    kind: Literal["rectangle"]
+    length: Q("m", gt=0)
+    """Side along x (warp) [m]."""
+    width: Q("m", gt=0)
+    """Side along y (weft) [m]."""
+    nx: int = Field(ge=1)
+    """Divisions along x."""
+    ny: int = Field(ge=1)
+    """Divisions along y."""
+
+
+class CusickMesh(_MeshBase):
+    """[mesh] kind = "cusick": the overhanging annulus, centred at 0; boundaries ``disc``, ``hem``."""
+
+    kind: Literal["cusick"]
+    specimen_diameter: Q("m", gt=0) = 0.30
+    """Specimen diameter [m] (standard: 0.24, 0.30 or 0.36)."""
+    disc_diameter: Q("m", gt=0) = 0.18
+    """Support disc diameter [m]."""
+    target_size: Q("m", gt=0) = 0.01
+    """Nominal element size [m]; sets the divisions not given explicitly."""
+    n_radial: int | None = Field(None, ge=1)
+    """Element rings across the overhang (default: overhang / target_size)."""
+    n_circumferential: int | None = Field(None, ge=8)
+    """Divisions around the circumference, even (default: mid circumference / target_size)."""
+    refine: int = Field(0, ge=0)
+    """Uniform refinements (divisions × 2**refine) for convergence studies."""
+    radial_grading: float = Field(1.0, ge=1.0)
+    """Outermost over innermost ring width (1: uniform); finer rings at the clamped disc edge,
+    where a limp fabric turns down within about one bending length."""
+
+    @model_validator(mode="after")
+    def _disc_inside(self):
+        if self.disc_diameter >= self.specimen_diameter:
+            raise _rule(
+                f"@.disc_diameter = {self.disc_diameter} must be smaller than "
+                f"@.specimen_diameter = {self.specimen_diameter}"
+            )
+        return self
+
+
+class FileMesh(_MeshBase):
+    """[mesh] kind = "file": an external triangle mesh read with meshio (gmsh .msh, .vtu, ...);
+    boundaries are the file's named line groups."""
+
+    kind: Literal["file"]
+    path: str
+    """Mesh file; relative paths are taken from the case file's directory."""
+    scale: float = Field(1.0, gt=0)
+    """Factor taking the file's coordinates to metres (0.01 for a file in cm)."""
+
+
+MeshSpec = Annotated[
+    Union[StripMesh, RectangleMesh, CusickMesh, FileMesh], Field(discriminator="kind")
+]
+
+
+# --------------------------------------------------------------------------- [material]
