@@ -75,7 +75,7 @@ MAX_TRIANGLES = 100_000
 def triangles_asked(spec) -> float:
     """How many triangles ``[mesh]`` asks for (before it is built; a file mesh: 0).
 
-    >>> from drape.case.schema import CusickMesh
+    >>> from drape.case.mesh_tables import CusickMesh
     >>> triangles_asked(CusickMesh(kind="cusick", n_radial=6, n_circumferential=72, refine=1))
     3456.0
     """
