@@ -2,4 +2,23 @@
 
 The FE layer knows the constitutive law only through its state-object interface
 (``trial`` / ``commit``) from :mod:`constitutive`.
+
+Subpackages
+-----------
+fem
+    Argyris element, boundaries, assembly, kinematics, compiled kernels.
+models
+    :class:`~drape.models.KirchhoffPlate` and :class:`~drape.models.KirchhoffLoveShell`.
+solvers
+    Linear solvers, Newton, Newmark/HHT-α, quasi-static load stepping.
+analyses
+    What each test measures: Peirce, Cusick, KES, load cycles.
+case
+    The case file and what is built from it.
+run
+    One run: :func:`drape.run.run_case` and ``drape run``.
+batch
+    Many runs: sweeps, seed ensembles, sensitivity studies, validation, reports.
 """
+
+__all__: list[str] = []

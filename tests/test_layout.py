@@ -66,6 +66,13 @@ def test_every_module_imports_on_its_own():
     assert not failed, "\n".join(f"{k}:\n{v}" for k, v in failed.items())
 
 
+def test_no_module_over_500_lines():
+    """One concept per module: a module that grows past 500 lines holds more than one."""
+    lengths = {f.relative_to(ROOT).as_posix(): len(f.read_text().splitlines())
+               for pkg in ("constitutive", "drape") for f in (ROOT / pkg).rglob("*.py")}
+    assert not {f: n for f, n in lengths.items() if n > 500}
+
+
 def test_physics_loads_no_schema_and_no_case_layer():
     names = modules(*PHYSICS)
     assert "drape.models.shell" in names and "drape.solvers.newmark" in names
