@@ -13,6 +13,7 @@ import time
 import numpy as np
 
 from constitutive.friction import FrictionState
+from constitutive.sheet import FRICTION_FRAMES, SheetLaw
 from constitutive.kes import kes_profile, run_kes, kes_values
 from constitutive.law import BendingState
 from constitutive.material import load_material
@@ -73,6 +74,20 @@ def main(argv=None):
     t = median_time(law_update, args.repeats)
     rows.append(("BendingState trial + commit (k3 + friction)", f"N = {n:.0e}",
                  f"{n / t / 1e6:.1f} M point-updates/s", ""))
+
+    # the sheet's laws: three curvature components per point, the friction on the tensor
+    sheet = SheetLaw(law, law, twist=float(law.k1))
+    kv = np.stack([k, -0.5 * k, 0.3 * k], axis=-1)
+    for frame in FRICTION_FRAMES:
+        sst = SheetLaw(sheet.warp, sheet.weft, sheet.twist, frame).new_state((n,))
+        sst.commit(np.stack([st.kappa, -0.5 * st.kappa, 0.3 * st.kappa], axis=-1))
+
+        def sheet_update():
+            sst.trial(kv)
+            sst.commit(kv)
+        t = median_time(sheet_update, args.repeats)
+        rows.append((f"SheetState trial + commit ({frame} friction)", f"N = {n:.0e}",
+                     f"{n / t / 1e6:.1f} M point-updates/s", ""))
 
     w = [max(len(r[i]) for r in rows) for i in range(4)]
     head = ("case", "size", "median", "target")

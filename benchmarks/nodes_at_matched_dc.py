@@ -17,6 +17,8 @@ Usage::
 
     python benchmarks/nodes_at_matched_dc.py SCANS.npz --out out/matched
     python benchmarks/nodes_at_matched_dc.py SCANS.npz --out out/matched --laws tensor --seeds 3
+    python benchmarks/nodes_at_matched_dc.py SCANS.npz --out out/matched_drop --laws tensor \
+        --set load.gravity.ramp_time=0.5 --set load.perturbation.duration=0.5
 
 ``SCANS.npz``: registered scans of real Cusick drapes (the format ``scan_descriptors.py``
 reads). Writes ``matched.csv`` and ``matched.md`` (one row per fabric and law),
@@ -49,11 +51,11 @@ def _finished(records):
     return [r for r in records if r.get("status") in GOOD and r.get("DC_percent")]
 
 
-def dc_curve(case, law: str, out: Path, workers) -> tuple[np.ndarray, np.ndarray]:
+def dc_curve(case, law: str, out: Path, workers, overrides) -> tuple[np.ndarray, np.ndarray]:
     """(B, DC %) of the law's grid (seed 0), sorted by B."""
     rows = [SweepRow(f"B{B:.5g}", {**dict(o.split("=", 1) for o in fabric_keys(B) + LAWS[law])})
             for B in GRIDS[law]]
-    sweep(case, rows, out, workers)
+    sweep(case, rows, out, workers, overrides)
     recs = _finished(read_results(out / "results.csv"))
     B = np.array([float(r["material.kes.B_warp"]) for r in recs])
     dc = np.array([float(r["DC_percent"]) for r in recs])
@@ -61,9 +63,10 @@ def dc_curve(case, law: str, out: Path, workers) -> tuple[np.ndarray, np.ndarray
     return B[order], dc[order]
 
 
-def sweep(case, rows, out: Path, workers) -> None:
-    """Run ``rows`` into ``out``, continuing a sweep already there."""
-    run_sweep(case, rows, out, workers=workers, resume=(out / "results.csv").exists(), quiet=False)
+def sweep(case, rows, out: Path, workers, overrides) -> None:
+    """Run ``rows`` into ``out`` (``overrides`` in every run), continuing a sweep already there."""
+    run_sweep(case, rows, out, overrides=overrides, workers=workers,
+              resume=(out / "results.csv").exists(), quiet=False)
 
 
 def matched_B(B, dc, target: float) -> float | None:
@@ -94,11 +97,11 @@ def _nodes(recs) -> list[int]:
     return sorted(int(float(r["nodes"])) for r in recs if r.get("nodes"))
 
 
-def compare(fabrics, case, laws, seeds: int, out: Path, workers) -> list[dict]:
+def compare(fabrics, case, laws, seeds: int, out: Path, workers, overrides=()) -> list[dict]:
     """One row per (fabric, law): matched B, the model's DCs and node counts."""
     table = []
     for law in laws:
-        B, dc = dc_curve(case, law, out / f"grid_{law}", workers)
+        B, dc = dc_curve(case, law, out / f"grid_{law}", workers, list(overrides))
         rows, target = [], {}
         for fab in fabrics:
             Bm = matched_B(B, dc, float(fab["dc_mean"]))
@@ -110,7 +113,7 @@ def compare(fabrics, case, laws, seeds: int, out: Path, workers) -> list[dict]:
                 rows.append(SweepRow(f"fabric{fab['fabric']}_s{seed}",
                                      dict(o.split("=", 1) for o in keys
                                           + [f"load.perturbation.seed={seed}"])))
-        sweep(case, rows, out / f"matched_{law}", workers)
+        sweep(case, rows, out / f"matched_{law}", workers, list(overrides))
         recs = _finished(read_results(out / f"matched_{law}" / "results.csv"))
         for fab in fabrics:
             mine = [r for r in recs if r["name"].rsplit("_s", 1)[0] == f"fabric{fab['fabric']}"]
@@ -179,11 +182,13 @@ def main(argv=None) -> int:
     p.add_argument("--seeds", type=int, default=3)
     p.add_argument("--case", default=str(ROOT / "cases" / "cusick_kes.toml"))
     p.add_argument("--workers", type=int, default=None)
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
+                   help="override a case key in every run (e.g. load.gravity.ramp_time=0.5)")
     args = p.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     fabrics = read_fabrics(args.scans, out)
-    table = compare(fabrics, args.case, args.laws, args.seeds, out, args.workers)
+    table = compare(fabrics, args.case, args.laws, args.seeds, out, args.workers, args.overrides)
     with open(out / "matched.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, list(table[0]))
         writer.writeheader()
