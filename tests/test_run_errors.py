@@ -223,20 +223,12 @@ def test_a_mesh_path_that_is_no_mesh_names_mesh_path(tmp_path, capsys, content):
     assert f"mesh.path = '{mesh}': {mesh.name}: not a mesh meshio can read (" in line
 
 
-def test_a_mesh_reader_that_exits_becomes_an_error_naming_the_file(tmp_path, monkeypatch):
+def test_a_mesh_reader_that_exits_becomes_an_error_naming_the_file(
+        tmp_path, mesh_meshio_exits_on):
     """Some of meshio's readers print why and call sys.exit: that must not end the process
     (or a Dask worker running the row)."""
-    import meshio
-
     from meshes import MeshError, load_mesh
-
-    def gives_up(path, *args, **kwargs):
-        print(f"Error: Couldn't read file {path} as either of ansys, gmsh", file=sys.stderr)
-        sys.exit(1)
-
-    monkeypatch.setattr(meshio, "read", gives_up)
-    mesh = tmp_path / "bad.msh"
-    mesh.write_text("$MeshFormat\n")
+    mesh = mesh_meshio_exits_on
     with pytest.raises(MeshError, match=r"^bad.msh: not a mesh meshio can read \(Error: Couldn't "
                                         r"read file .* as either of ansys, gmsh\)$"):
         load_mesh(mesh)

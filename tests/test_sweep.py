@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import json
 import os
-import signal
 import socket
 import subprocess
 import sys
@@ -226,27 +225,16 @@ def test_the_dask_environment_variable_names_the_scheduler(tmp_path, dask_cluste
 
 
 # --------------------------------------------------------------------------- SIGTERM + resume
-def test_a_terminated_sweep_resumes_with_only_the_missing_rows(tmp_path):
+def test_a_terminated_sweep_resumes_with_only_the_missing_rows(
+        tmp_path, terminate_after_first_row):
     out = tmp_path / "sweep"
     longer = ["mesh.nx=2", "mesh.ny=1", "solver.t_end=0.6"]
     cmd = [sys.executable, "-m", "drape.sweep", str(CANTILEVER), "--grid",
            "material.bending_scale=1,1.5,2,3", "--out", str(out), "--workers", "1", "--quiet",
            *sum((["--set", o] for o in longer), [])]
-    proc = subprocess.Popen(cmd, cwd=ROOT, env=env_with_worktree(), stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
     results = out / "results.csv"
-    try:
-        deadline = time.monotonic() + 300
-        while time.monotonic() < deadline and proc.poll() is None:
-            if results.exists() and len(sweep_rows.read_results(results)) >= 1:
-                break
-            time.sleep(0.05)
-        assert proc.poll() is None, proc.communicate()
-        proc.send_signal(signal.SIGTERM)
-        _, err = proc.communicate(timeout=120)
-    finally:
-        stop(proc)
-    assert proc.returncode == 143, err
+    code, err = terminate_after_first_row(cmd, results, ROOT, env_with_worktree())
+    assert code == 143, err
     assert "terminated" in err
     first = sweep_rows.read_results(results)
     assert 1 <= len(first) < 4

@@ -4,11 +4,9 @@ from __future__ import annotations
 import json
 import os
 import runpy
-import signal
 import socket
 import subprocess
 import sys
-import time
 import urllib.error
 import urllib.request
 from pathlib import Path
@@ -89,16 +87,9 @@ def test_a_sweep_into_a_folder_in_use_is_refused(tmp_path, capsys):
     assert not (out / "results.csv").exists()
 
 
-def test_a_mesh_reader_that_exits_makes_the_row_invalid_not_the_worker_die(tmp_path, monkeypatch):
-    import meshio
-
-    def gives_up(path, *args, **kwargs):
-        print(f"Error: Couldn't read file {path} as either of ansys, gmsh", file=sys.stderr)
-        sys.exit(1)
-
-    monkeypatch.setattr(meshio, "read", gives_up)
-    mesh = tmp_path / "bad.msh"
-    mesh.write_text("$MeshFormat\n")
+def test_a_mesh_reader_that_exits_makes_the_row_invalid_not_the_worker_die(
+        tmp_path, mesh_meshio_exits_on):
+    mesh = mesh_meshio_exits_on
     result = sweep.run_row(str(CANTILEVER), [f"mesh={{kind='file', path='{mesh}'}}"],
                            str(tmp_path / "run"))
     assert result["status"] == "invalid"
@@ -148,7 +139,8 @@ def sweep_command(out: Path, *extra: str) -> list[str]:
             *extra]
 
 
-def test_a_terminated_sweep_resumes_to_the_results_of_an_uninterrupted_one(tmp_path):
+def test_a_terminated_sweep_resumes_to_the_results_of_an_uninterrupted_one(
+        tmp_path, terminate_after_first_row):
     """The cantilever settles in each row (0.5: limp, 2: stiff); SIGTERM once one row is in,
     then --resume, gives results.csv row for row as a sweep that was never stopped."""
     reference = tmp_path / "uninterrupted"
@@ -157,23 +149,9 @@ def test_a_terminated_sweep_resumes_to_the_results_of_an_uninterrupted_one(tmp_p
     assert done.returncode == 0, done.stderr
 
     out = tmp_path / "stopped"
-    proc = subprocess.Popen(sweep_command(out), cwd=ROOT, env=env_with_worktree(),
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     results = out / "results.csv"
-    try:
-        deadline = time.monotonic() + 300
-        while time.monotonic() < deadline and proc.poll() is None:
-            if results.exists() and len(sweep_rows.read_results(results)) >= 1:
-                break
-            time.sleep(0.02)
-        assert proc.poll() is None, proc.communicate()
-        proc.send_signal(signal.SIGTERM)
-        _, err = proc.communicate(timeout=120)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
-    assert proc.returncode == 143, err
+    code, err = terminate_after_first_row(sweep_command(out), results, ROOT, env_with_worktree())
+    assert code == 143, err
     assert len(sweep_rows.read_results(results)) < 3
     resumed = subprocess.run([sys.executable, "-m", "drape.sweep", "--resume", "--out", str(out),
                               "--workers", "1", "--quiet"], cwd=ROOT, env=env_with_worktree(),
