@@ -84,7 +84,7 @@ def main(argv=None):
 
     def law():
         _, kappa = shell.qp_state(u)
-        shell._moments(kappa)
+        shell.moments(kappa)
 
     J = shell.evaluate(u, v, a, 0.5, "consistent", STEP_WEIGHTS).J
     restrict = FreeRestriction(np.setdiff1d(np.arange(shell.ndofs), shell.fixed_dofs), upper=True)
@@ -98,12 +98,12 @@ def main(argv=None):
         return call
 
     rows = [("kinematics + law trial", law),
-            ("force only", fresh(lambda: shell._internal(u, v))),
-            ("force + step matrix (kernel)", fresh(lambda: shell._internal(u, v, a, STEP_WEIGHTS))),
+            ("force only", fresh(lambda: shell.internal_forces(u, v))),
+            ("force + step matrix (kernel)", fresh(lambda: shell.internal_forces(u, v, a, STEP_WEIGHTS))),
             ("evaluate (R, step matrix as CSR)",
              fresh(lambda: shell.evaluate(u, v, a, 0.5, "consistent", STEP_WEIGHTS))),
             ("force, then step matrix at that point",
-             fresh(lambda: (shell._internal(u, v), shell._internal(u, v, a, STEP_WEIGHTS)))),
+             fresh(lambda: (shell.internal_forces(u, v), shell.internal_forces(u, v, a, STEP_WEIGHTS)))),
             ("restriction to the free dofs", lambda: restrict(J)),
             ("  the same gather by np.take", lambda: np.take(J.data, restrict._map))]
     for name, fun in rows:

@@ -38,8 +38,8 @@ K_ONLY = (1.0, 0.0, 0.0)
 def _parts(shell, u, v=None, a=None):
     """Force (with the viscous moments of ``v``) and the data of K, C_law and M_law, each
     from its own weighted pass of the tangent kernel."""
-    f, Kd = shell._internal(u, v, a, K_ONLY)
-    Cd, Md = (shell._internal(u, v, a, w)[1] for w in ((0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
+    f, Kd = shell.internal_forces(u, v, a, K_ONLY)
+    Cd, Md = (shell.internal_forces(u, v, a, w)[1] for w in ((0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
     return f, Kd, Cd, Md
 
 def _strip(nx=3, ny=2, L=1.0, b=0.5):
@@ -103,9 +103,9 @@ def test_force_is_gradient_of_elastic_energy(assumed):
                                          membrane_stabilization=assumed[1])
     shell = KirchhoffLoveShell(_strip(), _Elastic(), gravity=0.0, **kw)
     u, rng = _large_rotation_state(shell)
-    f_only, J = shell._internal(u)
+    f_only, J = shell.internal_forces(u)
     assert J is None
-    f_tan = shell._internal(u, weights=K_ONLY)[0]
+    f_tan = shell.internal_forces(u, weights=K_ONLY)[0]
     assert np.linalg.norm(f_tan - f_only) <= 1e-13 * np.linalg.norm(f_only)
     z = np.zeros_like(u)
     h = 1e-7          # the third derivative along a random direction is large: h² O(1e3)
@@ -131,7 +131,7 @@ def test_tangent_is_derivative_of_force(viscous_shell):
 
     f, Kd, Cd, Md = _parts(shell, u, v, a)
     weights = (1.3, 250.0, 4.0e4)
-    f_w, Jd = shell._internal(u, v, a, weights)
+    f_w, Jd = shell.internal_forces(u, v, a, weights)
     expected = weights[0] * Kd + weights[1] * Cd + weights[2] * Md
     assert np.abs(Jd - expected).max() <= 1e-13 * np.abs(expected).max()
     assert np.array_equal(f_w, f)
@@ -180,7 +180,7 @@ def test_elastic_tangent_is_symmetric(viscous_shell):
     """Without rates the tangent is the Hessian of an energy: symmetric to 1e-12."""
     shell = viscous_shell
     u, _ = _large_rotation_state(shell, seed=2)
-    K = shell.pattern.from_data(shell._internal(u, weights=K_ONLY)[1])
+    K = shell.pattern.from_data(shell.internal_forces(u, weights=K_ONLY)[1])
     assert abs(K - K.T).max() <= 1e-12 * abs(K).max()
 
 
@@ -190,32 +190,32 @@ def test_kernels_match_vectorised_first_variations(viscous_shell):
     shell = viscous_shell
     u, rng = _large_rotation_state(shell, seed=3, scale=0.3)
     v = rng.standard_normal(shell.ndofs)
-    kp = shell._points(u, slice(None))
+    kp = shell.points(u, slice(None))
     eps, kappa = shell.qp_state(u)
     for new, ref in ((eps, kp.strain), (kappa, kp.kappa)):
         assert np.abs(new - ref).max() <= 1e-12 * np.abs(ref).max()
-    M, _ = shell._moments(kp.kappa)
-    Nm = np.einsum("vw,eqw->eqv", shell.C_m, shell._membrane_strain(kp.strain))
+    M, _ = shell.moments(kp.kappa)
+    Nm = np.einsum("vw,eqw->eqv", shell.C_m, shell.membrane_strain(kp.strain))
     de, dk = kp.strain_variation(), kp.curvature_variation()
     fe = np.einsum("eqvI,eqv,eq->eI", de, Nm, shell.w) + np.einsum("eqvI,eqv,eq->eI", dk, M, shell.w)
     f_ref = shell.pattern.vector(fe)
     f, _, Cd, Md = _parts(shell, u)
     assert np.linalg.norm(f - f_ref) <= 1e-12 * np.linalg.norm(f_ref)
     for data, k in ((Cd, 0), (Md, 1)):
-        coef = shell._viscosity()[k]
+        coef = shell.sheet_law.viscosity[k]
         Ke = np.einsum("eqvI,eqv,eqvJ->eIJ", dk[:, :, :2], coef * shell.w[..., None], dk[:, :, :2])
         ref = shell.pattern.matrix(Ke).data
         assert np.abs(data - ref).max() <= 1e-12 * np.abs(ref).max()
     ve = v[shell.edofs]
-    kdot = np.einsum("eqvI,eI->eqv", dk[:, :, :2], ve) * shell._viscosity()[0]
-    assert np.abs(shell._viscous_moments(u, v) - kdot).max() <= 1e-12 * np.abs(kdot).max()
+    kdot = np.einsum("eqvI,eI->eqv", dk[:, :, :2], ve) * shell.sheet_law.viscosity[0]
+    assert np.abs(shell.viscous_moments(u, v) - kdot).max() <= 1e-12 * np.abs(kdot).max()
 
 
 def test_linear_stiffness_is_tangent_at_rest(viscous_shell):
     """The flat state's stiffness is the tangent at u = 0 with the laws' k1 (1e-13)."""
     shell = viscous_shell
     K0 = shell.linear_stiffness()
-    Kd = shell._internal(np.zeros(shell.ndofs), weights=K_ONLY, elastic_tangent=True)[1]
+    Kd = shell.internal_forces(np.zeros(shell.ndofs), weights=K_ONLY, elastic_tangent=True)[1]
     assert np.abs(K0.data - Kd).max() <= 1e-13 * np.abs(Kd).max()
 
 
@@ -223,9 +223,9 @@ def test_friction_tangent_choice_is_checked():
     shell = KirchhoffLoveShell(_strip(), ElasticMaterial(1.0, 1e3), gravity=0.0)
     u = np.zeros(shell.ndofs)
     with pytest.raises(ShellInputError, match="friction_tangent"):
-        shell._internal(u, weights=K_ONLY, friction_tangent="secant")
-    K1 = shell._internal(u, weights=K_ONLY, friction_tangent="nonnegative")[1]
-    assert np.array_equal(K1, shell._internal(u, weights=K_ONLY)[1])     # elastic law: the same tangent
+        shell.internal_forces(u, weights=K_ONLY, friction_tangent="secant")
+    K1 = shell.internal_forces(u, weights=K_ONLY, friction_tangent="nonnegative")[1]
+    assert np.array_equal(K1, shell.internal_forces(u, weights=K_ONLY)[1])     # elastic law: the same tangent
 
 
 # ---------------------------------------------------------------- quadrature
@@ -341,13 +341,13 @@ def test_mass_and_damping_products_match_the_assembled_matrices(viscous_shell):
     rng = np.random.default_rng(4)
     a, v = rng.standard_normal((2, shell.ndofs))
     assert shell._M_scalar.nnz == np.count_nonzero(shell._M.data) // 3
-    Ma, Mv = shell._mass_products(a, v)
+    Ma, Mv = shell.mass_products(a, v)
     assert np.allclose(Ma, shell._M @ a, rtol=0, atol=1e-15 * np.abs(shell._M @ a).max())
     for alpha, beta in ((3.0, 0.0), (3.0, 0.02)):
         shell.rayleigh = (alpha, beta)
         try:
             C0v = (alpha * shell._M + beta * shell._K0) @ v
-            assert np.allclose(shell._damping_force(v, Mv), C0v, rtol=0, atol=1e-14 * np.abs(C0v).max())
+            assert np.allclose(shell.damping_force(v, Mv), C0v, rtol=0, atol=1e-14 * np.abs(C0v).max())
         finally:
             shell.rayleigh = (0.0, 0.0)
 
@@ -369,16 +369,16 @@ def test_point_state_is_kept_for_one_committed_state():
 
     def fresh(*args):
         shell._kept_point = None
-        return shell._internal(u, *args)
+        return shell.internal_forces(u, *args)
 
-    f_start = shell._internal(u)[0]
+    f_start = shell.internal_forces(u)[0]
     kept = shell._kept_point
-    f, Kd = shell._internal(u, None, None, K_ONLY)
+    f, Kd = shell.internal_forces(u, None, None, K_ONLY)
     assert shell._kept_point is kept
     f_fresh, Kd_fresh = fresh(None, None, K_ONLY)
     assert np.array_equal(f, f_fresh) and np.array_equal(Kd, Kd_fresh)
 
     shell.commit(0.5 * u)
-    f_after = shell._internal(u)[0]
+    f_after = shell.internal_forces(u)[0]
     assert np.array_equal(f_after, fresh()[0])
     assert np.linalg.norm(f_after - f_start) > 1e-3 * np.linalg.norm(f_start)

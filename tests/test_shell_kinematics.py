@@ -111,7 +111,7 @@ def test_first_variations_match_finite_differences(shell):
     u, rng = _random_state(shell, seed=1)
     du = rng.standard_normal(shell.ndofs)
     sl = slice(0, len(shell.edofs))
-    kp = shell._points(u, sl)
+    kp = shell.points(u, sl)
     due = du[shell.edofs].reshape(len(shell.edofs), -1)
     lin_e = np.einsum("eqvI,eI->eqv", kp.strain_variation(), due)
     lin_k = np.einsum("eqvI,eI->eqv", kp.curvature_variation(), due)

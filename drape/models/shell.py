@@ -320,7 +320,7 @@ class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput):
         M_scalar.eliminate_zeros()
         return M, M_scalar
 
-    def _mass_products(self, *xs):
+    def mass_products(self, *xs):
         """``M x`` for every ``x``, as one product of ``M_s`` with all their components."""
         X = np.stack([np.reshape(x, (-1, 3)) for x in xs], axis=1)
         Y = (self._M_scalar @ X.reshape(len(X), -1)).reshape(X.shape)
@@ -368,15 +368,15 @@ class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput):
         fe, Kl = self._edge_terms(u, t)
         lam = self.load_scale
         f_ext = lam * (self._dead_surface_force(t) + fe)
-        Ma, Mv = self._mass_products(a, v)
+        Ma, Mv = self.mass_products(a, v)
         inertia = Ma + self._law_inertia(u, a)
-        force = self._damping_force(v, Mv) + self._drag_force(u, v) - f_ext
+        force = self.damping_force(v, Mv) + self._drag_force(u, v) - f_ext
         if tangent is None:
-            return Evaluation(inertia, force + self._internal(u, v)[0])
+            return Evaluation(inertia, force + self.internal_forces(u, v)[0])
         if weights is not None:
             fint, Jd = self._weighted(u, v, a, weights, tangent, Kl)
             if fint is None:
-                fint = self._internal(u, v)[0]
+                fint = self.internal_forces(u, v)[0]
             return Evaluation(inertia, force + fint, J=self.pattern.from_data(Jd))
         fint, Kd = self._weighted(u, v, a, (1.0, 0.0, 0.0), tangent, Kl)
         C, M = (self.pattern.from_data(self._weighted(u, v, a, w, tangent, Kl)[1])
@@ -397,11 +397,11 @@ class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput):
         self._friction_work += float(np.sum(self.bending.friction_work(kappa) * self.w))
         if v is not None:
             v = np.asarray(v, dtype=float)
-            Md = self._viscous_moments(u, v)
+            Md = self.viscous_moments(u, v)
             if self._v_committed is not None:
                 du = u - self._u_committed
                 vsum = v + self._v_committed
-                self._damping_work += float(0.5 * self._damping_force(vsum, *self._mass_products(vsum)) @ du)
+                self._damping_work += float(0.5 * self.damping_force(vsum, *self.mass_products(vsum)) @ du)
                 if self.drag is not None:       # ∫ ½ (f_old + f_new) · Δu, as for C v
                     self._damping_work += float(0.5 * (
                         self._drag_force(u, v)

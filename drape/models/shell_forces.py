@@ -23,7 +23,7 @@ __all__ = ["ShellForces"]
 class ShellForces:
     """Internal forces and tangents of :class:`~drape.models.shell.KirchhoffLoveShell`."""
 
-    def _points(self, u, sl):
+    def points(self, u, sl):
         """:class:`drape.fem.kinematics.KLPoint` of the elements ``sl`` (an independent,
         vectorised check of the compiled kernels)."""
         ue = u[self.edofs[sl]].reshape(-1, self.nb, 3)
@@ -33,7 +33,7 @@ class ShellForces:
         """Element coefficients (E, nb, 3) of a global dof vector."""
         return np.ascontiguousarray(np.asarray(x, dtype=float)[self.edofs].reshape(-1, self.nb, 3))
 
-    def _moments(self, kappa, elastic=False, friction_tangent=None):
+    def moments(self, kappa, elastic=False, friction_tangent=None):
         """Voigt moments (…, 3) and their tangents (…, 3, 3) from the law at Voigt curvature
         (``elastic``: the linear elastic law alone). The tangent is symmetrised where the
         solver factorises symmetrically: the residual, hence the solution, is unchanged."""
@@ -51,7 +51,7 @@ class ShellForces:
         """``[[d_warp, d_weft], [m_warp, m_weft]]``: the laws' viscosity and curvature inertia."""
         return self.sheet_law.viscosity
 
-    def _internal(self, u, v=None, a=None, weights=None, elastic_tangent=False, *,
+    def internal_forces(self, u, v=None, a=None, weights=None, elastic_tangent=False, *,
                   friction_tangent=None, base=None):
         """Internal force ``∫ ∂εᵀ N + ∂κᵀ (M + d κ̇)`` and, with ``weights``, the data of the
         weighted tangent on the cell pattern.
@@ -120,7 +120,7 @@ class ShellForces:
         ue = self._element_values(u)
         eps, kappa = self._kinematics(ue)
         t1 = time.perf_counter()
-        M, D = self._moments(kappa, elastic=elastic, friction_tangent=friction_tangent)
+        M, D = self.moments(kappa, elastic=elastic, friction_tangent=friction_tangent)
         t2 = time.perf_counter()
         point = (ue, M, D, self._membrane_force(eps))
         self._kept_point = (mode, inputs, np.array(u, dtype=float), point)
@@ -165,7 +165,7 @@ class ShellForces:
 
     def _membrane_force(self, eps):
         """Membrane forces ``C_m Q ε`` at the quadrature points, (E, q, 3)."""
-        return np.ascontiguousarray(self._membrane_strain(eps) @ self.C_m.T)
+        return np.ascontiguousarray(self.membrane_strain(eps) @ self.C_m.T)
 
     def linear_stiffness(self):
         """Tangent stiffness of the flat, unstressed state (membrane + elastic bending).
@@ -175,7 +175,7 @@ class ShellForces:
         """
         ue = np.zeros((len(self.edofs), self.nb, 3))
         zero = np.zeros(self.w.shape + (3,))
-        D = np.ascontiguousarray(self._moments(zero, elastic=True)[1])
+        D = np.ascontiguousarray(self.moments(zero, elastic=True)[1])
         fe = np.empty((len(ue), 3 * self.nb))
         Kd = self._tangent(ue, ue, ue, zero, zero, D, np.zeros((2, 2)), (1.0, 0.0, 0.0), fe)
         return self.pattern.from_data(Kd)
@@ -194,12 +194,12 @@ class ShellForces:
         visc = self._viscosity()
         if cK == 0.0 and not np.any(cC * visc[0] + cM * visc[1]):
             return None, base
-        fint, Jd = self._internal(u, v, a, (cK, cC, cM), friction_tangent=tangent, base=base)
+        fint, Jd = self.internal_forces(u, v, a, (cK, cC, cM), friction_tangent=tangent, base=base)
         if Kl is not None and cK != 0.0:
             Jd += cK * self.load_scale * Kl
         return fint, Jd
 
-    def _damping_force(self, v, Mv):
+    def damping_force(self, v, Mv):
         """``C0 v = α M v + β K0 v`` from ``M v``."""
         alpha, beta = self.rayleigh
         f = alpha * Mv

@@ -17,7 +17,7 @@ __all__ = ["ShellOutput"]
 class ShellOutput:
     """Output of :class:`~drape.models.shell.KirchhoffLoveShell`."""
 
-    def _viscous_moments(self, u, v):
+    def viscous_moments(self, u, v):
         """The laws' viscous moments ``d κ̇`` (warp, weft) at the quadrature points."""
         d = self._viscosity()[0]
         if not np.any(d):
@@ -27,7 +27,7 @@ class ShellOutput:
         kernels.curvature_rate(self._element_values(u), self._element_values(v), self.dN, self.HN, rate)
         return d * rate[..., :2]
 
-    def _membrane_strain(self, eps):
+    def membrane_strain(self, eps):
         """``Q eps`` (e, q, ...), whose forces ``C_m Q eps`` the membrane carries: the
         assumed-strain operator of :func:`drape.fem.kinematics.assumed_strain_operator` when
         ``membrane_strain_degree`` is set, else ``eps`` itself."""
@@ -45,7 +45,7 @@ class ShellOutput:
         Tensor components (``curvature_xy`` = κ12, ``moment_xy`` = M12).
         """
         eps, kap = self.qp_state(u)
-        eps = self._membrane_strain(eps)        # the strain whose forces are C_m eps
+        eps = self.membrane_strain(eps)        # the strain whose forces are C_m eps
         out = {}
         M, Mf = self.bending.trial(kap)[0], self.bending.friction_moment(kap)
         for name, i in (("xx", 0), ("yy", 1), ("xy", 2)):
@@ -64,9 +64,9 @@ class ShellOutput:
 
         ``t`` evaluates the dead loads' potential (default: :attr:`load_time`)."""
         eps, kap = self.qp_state(u)
-        membrane = 0.5 * np.einsum("eqv,vw,eqw,eq->", eps, self.C_m, self._membrane_strain(eps), self.w)
+        membrane = 0.5 * np.einsum("eqv,vw,eqw,eq->", eps, self.C_m, self.membrane_strain(eps), self.w)
         bend = float(np.sum(self.sheet_law.elastic_energy(kap) * self.w))
-        kinetic = 0.5 * float(v @ self._mass_products(v)[0])
+        kinetic = 0.5 * float(v @ self.mass_products(v)[0])
         # potential of the dead loads (gravity, surface and edge force)
         t = self._t_last if t is None else t
         f_dead = self._dead_surface_force(t)
