@@ -27,6 +27,9 @@ outline
     The drape outline's harmonic amplitudes.
 scan, scan_measure
     A scanned drape read and measured like a simulated one (``drape measure``).
+intersections
+    Whether triangles of a deformed surface cross each other or a body (Möller's test), a
+    check of the contact solver by another route.
 """
 from __future__ import annotations
 
