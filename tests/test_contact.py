@@ -153,3 +153,44 @@ def test_contact_state_round_trips():
     other.load_state_dict(state)
     v = np.ones(shell.ndofs) * 1e-2
     assert np.array_equal(contact.forces(u, v, 0.1)[0], c2.forces(u, v, 0.1)[0])
+
+
+# ---------------------------------------------------------------------------- friction
+
+
+def slide_on_incline(tan_theta, mu, t_end=0.25, dt=0.01):
+    """A strip on a plane inclined by θ (gravity tilted instead: ``g cos θ`` into the plane,
+    ``g sin θ`` along x); its centre of mass's x displacement at each step."""
+    theta = np.arctan(tan_theta)
+    floor = RigidBody("floor", plane([0.05, 0.025, -(0.5 * THICKNESS + 0.5 * DHAT)], [0, 0, 1]), mu=mu)
+    pull = RHO_A * G0 * np.sin(theta)
+
+    def traction(x):
+        return np.stack([pull * np.ones_like(x[0]), 0 * x[0], 0 * x[0]])
+
+    shell, _ = sheet(0.1, 0.05, 4, 2, bodies=[floor], gravity=np.cos(theta), surface_load=(traction, 1.0),
+                     eps_v=1e-4)
+    times, x = [], []
+
+    def record(state, info):
+        times.append(state.t)
+        x.append(shell.nodal_displacement(state.u)[:, 0].mean())
+
+    integrate(shell, t_end, dt, initial_state(shell), alpha_hht=-0.3, on_step=record)
+    return np.array(times), np.array(x), theta
+
+
+def test_strip_on_an_incline_slides_with_coulomb_acceleration_above_tan_theta_mu():
+    mu = 0.3
+    t, x, theta = slide_on_incline(1.3 * mu, mu)
+    late = t > 0.05                                        # after the first contact transient
+    fit = np.polyfit(t[late], x[late], 2)                  # x = ½ a t² + v t + x0
+    expected = G0 * (np.sin(theta) - mu * np.cos(theta))   # Coulomb's sliding block
+    assert 2 * fit[0] == pytest.approx(expected, rel=0.02)
+
+
+def test_strip_on_an_incline_sticks_below_tan_theta_mu():
+    mu = 0.3
+    t, x, theta = slide_on_incline(0.8 * mu, mu)
+    frictionless = 0.5 * G0 * np.sin(theta) * t[-1] ** 2
+    assert abs(x[-1]) < 0.01 * frictionless               # IPC's smoothed stick creeps below eps_v only

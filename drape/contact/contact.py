@@ -218,6 +218,7 @@ class Contact:
             ids = [j for j in pair.vertex_ids(mesh.edges, mesh.faces) if j >= 0]
             body = owner[ids].max()
             pair.mu_s = pair.mu_k = self._mu[body]   # body -1 (fabric alone): the last, mu_self
+        self._lagged.reset_lagged_anisotropic_friction_coefficients()   # the μ the potential reads
 
     def _friction_power(self, v_fabric, t: float) -> float:
         if self._lagged.empty():
