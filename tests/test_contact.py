@@ -194,3 +194,46 @@ def test_strip_on_an_incline_sticks_below_tan_theta_mu():
     t, x, theta = slide_on_incline(0.8 * mu, mu)
     frictionless = 0.5 * G0 * np.sin(theta) * t[-1] ** 2
     assert abs(x[-1]) < 0.01 * frictionless               # IPC's smoothed stick creeps below eps_v only
+
+
+# ---------------------------------------------------------------------------- case file
+
+
+def case_with(contact, kinematics="large"):
+    from drape.case.case import parse_case
+
+    return parse_case({
+        "case": {"name": "c"}, "material": {"name": "fabric1"},
+        "mesh": {"kind": "rectangle", "length": 0.1, "width": 0.1, "nx": 2, "ny": 2,
+                 "element": "argyris"},
+        "model": {"kinematics": kinematics, "supports": {}},
+        "solver": {"dt": 0.01, "t_end": 0.1}, "contact": contact})
+
+
+@pytest.mark.parametrize("contact, kinematics, message", [
+    ({"body": [{"name": "t", "shape": "plane", "point": [0, 0, -0.01], "size": 1.0, "mu": -0.2}]},
+     "large", r"contact.body\[0\].mu = -0.2: must be >= 0"),
+    ({"body": [{"name": "t", "shape": "plane", "point": [0, 0, -0.01], "size": 1.0}]}, "small",
+     r"\[contact\] needs model.kinematics = 'large'"),
+    ({"body": [{"name": "t", "shape": "sphere", "centre": [0, 0, -1], "radius": 0.5},
+               {"name": "t", "shape": "sphere", "centre": [0, 0, -3], "radius": 0.5}]},
+     "large", "names must be unique: t given twice"),
+    ({"body": [{"name": "t", "shape": "cone", "centre": [0, 0, -1]}]}, "large", r"contact.body\[0\].shape = .cone.: must be one of"),
+    ({"dhat": "-1 mm"}, "large", "contact.dhat"),
+])
+def test_bad_contact_tables_are_refused_with_one_line(contact, kinematics, message):
+    from drape.case.case import CaseError
+
+    with pytest.raises(CaseError, match=message) as err:
+        case_with(contact, kinematics)
+    assert len(str(err.value).splitlines()) == 1
+
+
+def test_contact_table_reads_units():
+    case = case_with({"thickness": "0.4 mm", "dhat": "2 mm", "eps_v": "1 mm/s",
+                      "body": [{"name": "ball", "shape": "sphere", "centre": ["0 cm", "0 cm", "-5 cm"],
+                                "radius": "4 cm", "path": {"times": [0, 1], "translations": [[0, 0, 0],
+                                                                                            [0, 0, 0.01]]}}]})
+    spec = case.contact
+    assert (spec.thickness, spec.dhat, spec.eps_v) == pytest.approx((4e-4, 2e-3, 1e-3))
+    assert spec.body[0].centre == pytest.approx((0.0, 0.0, -0.05)) and spec.body[0].radius == pytest.approx(0.04)
