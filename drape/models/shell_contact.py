@@ -7,6 +7,8 @@ A part of :class:`drape.models.shell.KirchhoffLoveShell`. The contact object
 """
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from drape.models.protocol import Evaluation
@@ -30,9 +32,17 @@ class ShellContact:
         """Let ``contact`` (a :class:`drape.contact.contact.Contact` on :meth:`contact_vertices`)
         act on this shell."""
         self.contact = contact
+        self.seconds.setdefault("contact", 0.0)   # the contact's share of the run's time
 
     def _add_contact(self, ev: Evaluation, u, v, t, tangent, weights) -> Evaluation:
         """``ev`` with the contact force, and its tangent in ``J`` or in ``K`` and ``C``."""
+        start = time.perf_counter()
+        try:
+            return self._contact_terms(ev, u, v, t, tangent, weights)
+        finally:
+            self.seconds["contact"] += time.perf_counter() - start
+
+    def _contact_terms(self, ev, u, v, t, tangent, weights) -> Evaluation:
         if tangent is None:
             force, _ = self.contact.forces(u, v, t)
             return Evaluation(ev.inertia, ev.force + force)
@@ -47,7 +57,12 @@ class ShellContact:
     def max_step(self, u0, u1, t, t0=None) -> float:
         """Safe fraction in (0, 1] of the step from ``u0`` to ``u1`` (1 without contact):
         continuous collision detection (:meth:`drape.contact.contact.Contact.max_step`)."""
-        return 1.0 if self.contact is None else self.contact.max_step(u0, u1, t, t0)
+        if self.contact is None:
+            return 1.0
+        start = time.perf_counter()
+        cap = self.contact.max_step(u0, u1, t, t0)
+        self.seconds["contact"] += time.perf_counter() - start
+        return cap
 
     def _commit_contact(self, u, v) -> None:
         if self.contact is not None:
