@@ -109,6 +109,10 @@ def _clean_loc(loc, variants) -> tuple:
     loc = list(loc)
     if len(loc) >= 2 and loc[0] in variants and loc[1] in variants[loc[0]]:
         loc.pop(1)
+    # an array of tagged tables (``"contact.body[]"``): the tag follows the index
+    for i in range(len(loc) - 1, 1, -1):
+        if isinstance(loc[i - 1], int) and loc[i] in variants.get(_dotted(loc[:i - 1]) + "[]", ()):
+            loc.pop(i)
     return tuple(loc)
 
 
@@ -132,7 +136,8 @@ def _format_error(err: dict, root, variants) -> str:
             return f"{key}: {msg}" if key else msg
         return f"{key} = {_show(err.get('input'))}: {msg}" if key else msg
     if kind == "union_tag_invalid":
-        return (f"{key}.kind = {_show(err['ctx']['tag'])}: must be one of "
+        tag = str(err["ctx"].get("discriminator", "'kind'")).strip("'")
+        return (f"{key}.{tag} = {_show(err['ctx']['tag'])}: must be one of "
                 f"{err['ctx']['expected_tags']}")
     if kind == "union_tag_not_found":
         tags = ", ".join(variants.get(key, {})) or err["ctx"].get("discriminator", "")

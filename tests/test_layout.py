@@ -12,7 +12,7 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("constitutive", "drape", "meshes")
 
 #: Layers below the case file: they take numbers, arrays and functions of time.
-PHYSICS = ("drape.fem", "drape.models", "drape.solvers", "constitutive.law", "constitutive.friction",
+PHYSICS = ("drape.fem", "drape.models", "drape.solvers", "drape.contact", "constitutive.law", "constitutive.friction",
            "constitutive.sheet", "constitutive.sheet_friction", "constitutive.derived",
            "constitutive.conventions", "constitutive.kes")
 #: What the physics must not load: the schema library and the layers above it.

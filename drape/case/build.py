@@ -16,6 +16,7 @@ from constitutive.material import MaterialError, load_material, material_from_sp
 from constitutive.units import G0
 from drape.analyses.drape_coefficient import skirt_tension
 from drape.case.case import Case, check_boundaries
+from drape.case.contact_build import build_contact
 from drape.case.loads import kes_curvature, load_amplitudes
 from drape.models.perturbation import FoldPerturbation, perturbation_dofs
 from drape.models.plate import KirchhoffPlate, pure_bending_rotations
@@ -174,7 +175,8 @@ def rayleigh_coefficients(case: Case, material) -> tuple[float, float]:
 
 
 def build_model(case: Case, mesh, material):
-    """The structural model for ``[model] kinematics`` with supports, loads and damping."""
+    """The structural model for ``[model] kinematics`` with supports, loads and damping, and
+    the contact of ``[contact]`` (large kinematics only)."""
     spec = case.model
     rayleigh = rayleigh_coefficients(case, material)
     loads = load_amplitudes(case, mass_damping=rayleigh[0])
@@ -200,7 +202,7 @@ def build_model(case: Case, mesh, material):
         kwargs.update(surface_load=(lambda x: fold.traction(x, weight), fold.time_profile))
     if case.load.end_moment is not None:
         kwargs.update(end_moment=loads["end_moment"], load_boundary=case.load.end_moment.boundary)
-    return KirchhoffLoveShell(mesh, material, clamped=clamped,
+    shell = KirchhoffLoveShell(mesh, material, clamped=clamped,
                               gravity=loads.get("gravity", 0.0), rayleigh=rayleigh,
                               membrane_strain_degree=spec.membrane_strain_degree,
                               membrane_stabilization=spec.membrane_stabilization,
@@ -208,6 +210,9 @@ def build_model(case: Case, mesh, material):
                               viscous_tangent=spec.viscous_tangent,
                               bending_friction=spec.bending_friction,
                               drag_coefficient=spec.damping.drag_coefficient, **kwargs)
+    if case.contact is not None:
+        shell.attach_contact(build_contact(case.contact, shell, material))
+    return shell
 
 
 def fold_perturbation(case: Case):

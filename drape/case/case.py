@@ -66,6 +66,7 @@ from pathlib import Path
 from pydantic import ValidationError, model_validator
 
 from constitutive.schema_errors import format_errors
+from drape.case.contact_tables import BODY_SHAPES, ContactSpec
 from drape.case.help import describe
 from drape.case.loads import (  # noqa: F401
     Agitation,
@@ -129,6 +130,8 @@ class Case(_Section):
     """[stop]: settling criterion."""
     measured: MeasuredSpec | None = None
     """[measured]: the real test's results, for comparison (not used by the run)."""
+    contact: ContactSpec | None = None
+    """[contact]: rigid bodies the fabric touches (``[[contact.body]]``), self-contact."""
 
     @model_validator(mode="after")
     def _consistent(self):
@@ -189,6 +192,9 @@ class Case(_Section):
             if not model.translational_inertia:
                 raise _rule("model.translational_inertia = false needs model.kinematics = 'small'")
         else:
+            if self.contact is not None:
+                raise _rule("[contact] needs model.kinematics = 'large' (the small-deflection plate "
+                            "cannot follow a fabric over a body)")
             if load.end_moment is not None:
                 raise _rule("load.end_moment needs model.kinematics = 'large' (a follower moment)")
             if load.perturbation is not None:
@@ -223,13 +229,16 @@ def parse_case(data: dict, base_dir: Path | str | None = None) -> Case:
     try:
         case = Case.model_validate(data)
     except ValidationError as exc:
-        raise CaseError(format_errors(exc, Case, {"mesh": _MESH_VARIANTS})) from None
+        raise CaseError(format_errors(exc, Case, {"mesh": _MESH_VARIANTS, "contact.body[]": BODY_SHAPES})) from None
     if base_dir is not None:
         base = Path(base_dir)
         if case.mesh.kind == "file" and not Path(case.mesh.path).is_absolute():
             case.mesh.path = str((base / case.mesh.path).resolve())
         if case.material.path is not None and not Path(case.material.path).is_absolute():
             case.material.path = str((base / case.material.path).resolve())
+        for body in (case.contact.body if case.contact is not None else ()):
+            if body.shape == "mesh" and not Path(body.file).is_absolute():
+                body.file = str((base / body.file).resolve())
     return case
 
 

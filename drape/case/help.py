@@ -64,28 +64,34 @@ def _head(name: str, table: dict) -> list[str]:
 
 def _table(prefix: str, table: dict, defs: dict, lines: list[str]) -> None:
     lines.extend(_head(prefix, table))
-    nested = []
+    nested, arrays = [], []
     required = set(table.get("required", ()))
     for name, prop in table.get("properties", {}).items():
         if _is_table(prop, defs):
             nested.append((name, _resolve(prop, defs)))
             continue
         lines.extend(_key(name, prop, name in required, "  "))
+        if "oneOf" in prop.get("items", {}):     # an array of tables, e.g. [[contact.body]]
+            arrays.append((name, prop["items"]))
     lines.append("")
     for name, sub in nested:
         _table(f"{prefix}.{name}", sub, defs, lines)
+    for name, items in arrays:
+        _variants(f"{prefix}.{name}", items, defs, lines, array=True)
 
 
-def _variants(prefix: str, union: dict, defs: dict, lines: list[str]) -> None:
-    """A table whose keys depend on its ``kind`` (a discriminated union)."""
-    lines.append(f"[{prefix}]  the keys depend on kind:")
+def _variants(prefix: str, union: dict, defs: dict, lines: list[str], array: bool = False) -> None:
+    """A table whose keys depend on its ``kind`` (or ``shape``: a discriminated union)."""
+    key = union.get("discriminator", {}).get("propertyName", "kind")
+    lines.append(f"[[{prefix}]]" if array else f"[{prefix}]")
+    lines[-1] += f"  the keys depend on {key}:"
     for option in union["oneOf"]:
         variant = _resolve(option, defs)
         doc = variant.get("description", "").strip().splitlines()
         lines += [f"  {doc[0]}"] + [f"    {line.strip()}" for line in doc[1:]] if doc else []
         required = set(variant.get("required", ()))
         for name, prop in variant["properties"].items():
-            if name != "kind":
+            if name != key:
                 lines.extend(_key(name, prop, name in required, "    "))
     lines.append("")
 

@@ -1,7 +1,10 @@
-"""Rigid bodies the fabric touches: their triangulated surfaces and prescribed motions.
+"""Contact of the fabric with rigid bodies and with itself (Incremental Potential Contact).
 
-:mod:`~drape.contact.shapes` builds the surfaces (plane patch, sphere, cylinder, rounded box,
-disc, or a mesh file), :mod:`~drape.contact.motion` moves them along a keyframed path.
+The scene of fabric and bodies (:mod:`drape.contact.bodies`), the barrier and lagged friction
+forces with their tangents and the collision-free step (:mod:`drape.contact.contact`), the
+barrier stiffness (:mod:`drape.contact.stiffness`); the rigid surfaces and their prescribed
+paths come from :mod:`drape.contact.shapes` (plane patch, sphere, cylinder, rounded box, disc,
+or a mesh file) and :mod:`drape.contact.motion` (a keyframed path).
 """
 from .errors import ContactInputError
 from .motion import RigidPath

@@ -67,6 +67,7 @@ from drape.models.errors import ShellInputError
 from drape.models.loads import as_function
 from drape.models.protocol import Evaluation, free_dofs
 from drape.models.sheet_material import membrane_matrix, sheet_parts
+from drape.models.shell_contact import ShellContact
 from drape.models.shell_forces import ShellForces
 from drape.models.shell_loads import ShellLoads
 from drape.models.shell_output import ShellOutput
@@ -136,7 +137,7 @@ class ElasticMaterial:
         return np.diag([Eh, Eh, Eh / 2.0])
 
 
-class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput):
+class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput, ShellContact):
     """Total-Lagrangian Kirchhoff–Love fabric with hysteretic bending.
 
     Parameters
@@ -363,6 +364,11 @@ class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput):
             ``K`` (consistent, including the configuration dependence of the law's
             viscous and curvature-inertia terms), ``C`` and ``M`` on one CSR pattern, or ``J``.
         """
+        ev = self._structural_evaluation(u, v, a, t, tangent, weights)
+        return ev if self.contact is None else self._add_contact(ev, u, v, t, tangent, weights)
+
+    def _structural_evaluation(self, u, v, a, t, tangent, weights):
+        """:meth:`evaluate` without contact."""
         self._t_last = t
         u, v, a = (np.asarray(x, dtype=float) for x in (u, v, a))
         fe, Kl = self._edge_terms(u, t)
@@ -412,6 +418,7 @@ class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput):
             self._v_committed = v.copy()
             self._Md_committed = Md
         self.bending.commit(kappa)
+        self._commit_contact(u, v)
         self._u_committed = u.copy()
         self._kappa_committed = kappa
 
@@ -422,6 +429,7 @@ class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput):
         out = {f"bending.{k}": v for k, v in self.bending.state_dict().items()}
         out.update({k: np.array(getattr(self, f"_{k}"), dtype=float) for k in _SHELL_STATE})
         out.update(load_scale=np.array(self.load_scale, dtype=float))
+        out.update(self._contact_state())
         return out
 
     def load_state_dict(self, state: dict) -> None:
@@ -433,6 +441,7 @@ class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput):
             value = restored_array(f"shell state {key}", state, key, shape)
             setattr(self, f"_{key}", value if shape else float(value))
         self.load_scale = float(restored_array("shell state load_scale", state, "load_scale", ()))
+        self._load_contact_state(state)
 
     @property
     def load_time(self):

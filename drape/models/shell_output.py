@@ -60,7 +60,8 @@ class ShellOutput:
     def energies(self, u, v, t=None):
         """Energies [J]: kinetic, strain (membrane + elastic bending), external potential
         (dead loads: gravity and edge force; not the follower end moment), friction and
-        damping work (Rayleigh and the law's d κ̇) dissipated so far, and their total.
+        damping work (Rayleigh and the law's d κ̇) dissipated so far, with contact the barrier's
+        potential and the contact friction's work, and their total.
 
         ``t`` evaluates the dead loads' potential (default: :attr:`load_time`)."""
         eps, kap = self.qp_state(u)
@@ -74,10 +75,14 @@ class ShellOutput:
             f_dead = f_dead + self._edge_force(t)
         ext = -float(self.load_scale * f_dead @ u)
         strain = float(membrane + bend)
-        return dict(kinetic=kinetic, strain=strain, membrane=float(membrane), bending=bend,
-                    external_potential=ext, friction_work=self._friction_work,
-                    damping_work=self._damping_work,
-                    total=kinetic + strain + ext + self._friction_work + self._damping_work)
+        out = dict(kinetic=kinetic, strain=strain, membrane=float(membrane), bending=bend,
+                   external_potential=ext, friction_work=self._friction_work,
+                   damping_work=self._damping_work,
+                   total=kinetic + strain + ext + self._friction_work + self._damping_work)
+        contact = self._contact_energies(u)
+        out.update(contact)
+        out["total"] += sum(contact.values())
+        return out
 
     def deformed_surface(self, u, refine: int = 2):
         """The deformed surface sampled inside every triangle, as a triangle soup.

@@ -42,9 +42,12 @@ class RunProfile:
         self.rescued_steps += int(info.rescued)
 
     def summary(self, model, solver, wall: float) -> dict:
-        """Counts and the split of ``wall`` [s] into assembly, law, linear solve, output, other."""
+        """Counts and the split of ``wall`` [s] into assembly, law, linear solve, output, other
+        (and contact, when the model has it)."""
         seconds = {"assembly": float(model.seconds["assembly"]), "law": float(model.seconds["law"]),
                    "linear_solve": float(sum(solver.seconds.values())), "output": float(self.output_s)}
+        if "contact" in model.seconds:   # barrier, friction and CCD (drape.contact)
+            seconds["contact"] = float(model.seconds["contact"])
         seconds["other"] = max(0.0, float(wall) - sum(seconds.values()))
         return {"steps": self.steps, "newton_iterations": self.iterations, "evaluations": self.evaluations,
                 "factorizations": self.factorizations,

@@ -161,6 +161,7 @@ class _StepProblem:
         self.beta, self.gamma, self.alpha = coefficients
         self.t1 = state.t + dt
         c0, self.c1 = _Constraints(model, state.t), _Constraints(model, self.t1)
+        self.t0, self.c0_lift = state.t, c0.lift[0]
         self.uh0, self.vh0, self.ah0 = (x - l for x, l in zip((state.u, state.v, state.a), c0.lift))
         self.u0_norm = float(np.linalg.norm(state.u))
         self.free = self.c1.free
@@ -182,7 +183,28 @@ class _StepProblem:
         elif predictor == "velocity":
             uh += self.dt * self.vh0
         self.base = self.c1.impose(uh)
+        if predictor != "displacement" and self._unsafe_start():
+            return self.start("displacement")   # the extrapolation passes through a body
+        if predictor == "displacement" and self._unsafe_start():
+            raise ConvergenceError(f"at t = {self.t1:.6g} s (dt = {self.dt:.3g} s): a body moves "
+                                   "through the fabric's last position within the step", StepInfo(t=self.t1, dt=self.dt))
         return self.base[self.free]
+
+    def _unsafe_start(self) -> bool:
+        """The start is not reached collision-free from the last state (bodies moving from
+        ``t₀`` to ``t₁``): :meth:`max_step` of the model below 1."""
+        max_step = getattr(self.model, "max_step", None)
+        if max_step is None:
+            return False
+        u1 = self.c1.lift[0] + self.base
+        return max_step(self.uh0 + self.c0_lift, u1, self.t1, self.t0) < 1.0
+
+    def max_step(self, x, dx) -> float:
+        """The model's safe fraction of the Newton step ``x → x + dx`` (contact's CCD)."""
+        max_step = getattr(self.model, "max_step", None)
+        if max_step is None:
+            return 1.0
+        return max_step(self._fields(x)[0], self._fields(x + dx)[0], self.t1)
 
     def _fields(self, x):
         uh = self.base.copy()

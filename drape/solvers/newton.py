@@ -35,6 +35,8 @@ error-oriented NLEQ-ERR damping):
   friction points switching between stick and slip, and a shorter step (the
   caller's remedy) is cheaper than more iterations. Damped steps count less:
   they descend, if slowly.
+- A problem with ``max_step(x, dx)`` (contact: continuous collision detection) caps λ and
+  its floor at the safe fraction of the step it returns, so no iterate passes through a body.
 - If the first tangent of ``policy.tangents`` fails, Newton restarts from
   ``x0`` with the next (e.g. the friction law's *stick* tangent, which is
   positive and constant in the step: slower, but it cannot point uphill).
@@ -77,6 +79,9 @@ class NonlinearProblem(Protocol):
 
     def norm_reference(self, x) -> float:
         """Norm of the whole unknown at ``x`` (e.g. including imposed motion) for the increment test."""
+
+    # optional: max_step(x, dx) -> float in (0, 1], the largest safe fraction of the step
+    # x -> x + dx (continuous collision detection); a problem without it allows every step.
 
 
 @dataclass(frozen=True)
@@ -250,10 +255,21 @@ class _Attempt:
             lam = min(1.0, 2.0 * lam_used)
         return self._fail(x, f"max_iter = {self.tol.max_iter} reached")
 
+    def _step_cap(self, x, dx) -> float:
+        """The problem's safe fraction of ``dx`` (1 if it has no ``max_step``)."""
+        max_step = getattr(self.problem, "max_step", None)
+        return 1.0 if max_step is None else float(max_step(x, dx))
+
     def _damped_step(self, x, dx, dx_norm, r, first, lam):
-        """Accepted ``(x, R, ‖R‖, λ, next correction, fresh tangent?)`` or None."""
+        """Accepted ``(x, R, ‖R‖, λ, next correction, fresh tangent?)`` or None.
+
+        λ never exceeds the problem's safe fraction (:meth:`_step_cap`), nor does its floor."""
         pol = self.policy
-        while lam >= pol.lambda_min:
+        cap = self._step_cap(x, dx)
+        lam, floor = min(lam, cap), min(pol.lambda_min, cap)
+        if floor <= 0.0:
+            return None
+        while lam >= floor:
             x_try = x + lam * dx
             R_try, r_try = self._residual(x_try)
             if not np.isfinite(r_try):
@@ -275,7 +291,9 @@ class _Attempt:
         return None
 
     def _kink_step(self, x, dx, r):
-        lam = self.policy.lambda_min
+        lam = min(self.policy.lambda_min, self._step_cap(x, dx))
+        if lam <= 0.0:
+            return None
         x_try = x + lam * dx
         R_try, r_try = self._residual(x_try)
         if not r_try <= self.policy.kink_growth * r:

@@ -50,6 +50,11 @@ class _StaticProblem:
     def norm_reference(self, x):
         return float(np.linalg.norm(self.u(x)))
 
+    def max_step(self, x, dx):
+        """The model's safe fraction of the Newton step (contact's CCD; 1 without)."""
+        max_step = getattr(self.model, "max_step", None)
+        return 1.0 if max_step is None else max_step(self.u(x), self.u(x + dx), self.t)
+
 
 def quasi_static(model, load_factors, times=None, state: NewmarkState | None = None, *, max_cuts: int = 6,
                  on_step=None, progress: bool = False, policy: NewtonPolicy | None = None,

@@ -1,0 +1,72 @@
+"""From ``[contact]`` to the shell's contact: the bodies' surfaces, paths and the IPC parameters.
+
+:func:`build_contact` builds every ``[[contact.body]]`` surface (:mod:`drape.contact.shapes`),
+places it, gives it its path (:mod:`drape.contact.motion`), puts it in one scene with the
+fabric and checks that the fabric starts clear of every body (and of itself).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from constitutive.units import G0
+from drape.contact.bodies import ContactInputError, RigidBody, Scene
+from drape.contact.contact import Contact
+from drape.contact.stiffness import barrier_stiffness
+
+__all__ = ["build_contact", "body_surface"]
+
+
+def body_surface(spec):
+    """The placed surface of one ``[[contact.body]]`` table (metres)."""
+    from drape.contact import shapes
+
+    kind = spec.shape
+    if kind == "plane":
+        surface = shapes.plane(spec.point, spec.normal, spec.size, spec.resolution)
+    elif kind == "sphere":
+        surface = shapes.sphere(spec.centre, spec.radius, spec.resolution)
+    elif kind == "cylinder":
+        surface = shapes.cylinder(spec.centre, spec.axis, spec.radius, spec.length, spec.resolution)
+    elif kind == "box":
+        surface = shapes.rounded_box(spec.centre, spec.size, spec.edge_radius, spec.resolution)
+    elif kind == "disc":
+        surface = shapes.disc(spec.centre, spec.radius, spec.thickness, spec.edge_radius, spec.resolution)
+    else:
+        surface = shapes.read_surface(spec.file, units=spec.units)
+    return surface.placed(translation=spec.translation, rotation_deg=spec.rotation_deg, scale=spec.scale)
+
+
+def _body(spec) -> RigidBody:
+    from drape.contact.motion import RigidPath
+
+    try:
+        path = None if spec.path is None else RigidPath(spec.path.times, spec.path.translations)
+        return RigidBody(spec.name, body_surface(spec), spec.mu, path)
+    except ContactInputError as err:
+        raise ContactInputError(f"contact.body {spec.name!r}: {err}") from None
+    except (OSError, ValueError) as err:     # a file that is missing or not a surface
+        raise ContactInputError(f"contact.body {spec.name!r}: {err}") from None
+
+
+def build_contact(spec, shell, material, u0=None) -> Contact:
+    """The :class:`drape.contact.contact.Contact` of ``[contact]`` on ``shell``.
+
+    The barrier stiffness is the table's, or the one that rests a vertex carrying its share of
+    the fabric's weight in the middle of the barrier layer
+    (:func:`drape.contact.stiffness.barrier_stiffness`). Raises ContactInputError (one line)
+    for a body that cannot be built or a fabric that starts inside a body.
+    """
+    thickness = spec.thickness if spec.thickness is not None else getattr(material, "thickness", None)
+    if thickness is None:
+        raise ContactInputError("contact.thickness: the material has no thickness; give contact.thickness")
+    points, triangles, dofs = shell.contact_vertices()
+    scene = Scene(points, triangles, [_body(b) for b in spec.body], spec.self_contact)
+    kappa = spec.barrier_stiffness
+    if kappa is None:
+        area = float(shell.w.sum())
+        kappa = barrier_stiffness(float(material.areal_mass) * G0 * area / len(points), spec.dhat,
+                                  0.5 * thickness)
+    contact = Contact(scene, dofs, shell.ndofs, dhat=spec.dhat, stiffness=kappa, thickness=thickness,
+                      eps_v=spec.eps_v, mu_self=spec.mu_self)
+    contact.check_start(np.zeros(shell.ndofs) if u0 is None else u0)
+    return contact

@@ -1,0 +1,183 @@
+"""The ``[contact]`` table and its ``[[contact.body]]`` tables: rigid bodies the fabric touches.
+
+::
+
+    [contact]
+    thickness = "0.5 mm"        # the fabric's; default the material's thickness
+    dhat = "1 mm"               # barrier layer beyond half the thickness
+    [[contact.body]]
+    name = "table"
+    shape = "disc"              # plane | sphere | cylinder | box | disc | mesh
+    centre = [0, 0, -0.002]
+    radius = "9 cm"
+    thickness = "1 cm"
+    edge_radius = "2 mm"
+    mu = 0.3
+    path = { times = [0, 1], translations = [[0, 0, 0], [0, 0, -0.05]] }
+
+Coordinates are metres in the fabric's frame (its reference lies in z = 0, gravity along −z).
+"""
+from __future__ import annotations
+
+from typing import Annotated, Literal, Union
+
+from pydantic import Field, model_validator
+
+from drape.case.quantities import Q, _rule, _Section
+
+__all__ = ["BodyPath", "ContactSpec", "BodySpec", "BODY_SHAPES", "PlaneBody", "SphereBody", "CylinderBody", "BoxBody",
+           "DiscBody", "MeshBody"]
+
+Vector = Annotated[list[Q("m")], Field(min_length=3, max_length=3)]
+"""x, y, z [m] (each may carry units)."""
+Direction = Annotated[list[float], Field(min_length=3, max_length=3)]
+
+
+class BodyPath(_Section):
+    """``path``: a prescribed rigid translation, linear between keyframes."""
+
+    times: list[Q("s")] = Field(min_length=1)
+    """Keyframe times [s], strictly increasing."""
+    translations: list[Vector] = Field(min_length=1)
+    """The body's offset [m] from its placement at each keyframe time."""
+
+    @model_validator(mode="after")
+    def _one_offset_per_time(self):
+        if len(self.translations) != len(self.times):
+            raise _rule(f"path.translations: {len(self.translations)} rows for {len(self.times)} times")
+        if any(b <= a for a, b in zip(self.times, self.times[1:])):
+            raise _rule("path.times must be strictly increasing")
+        return self
+
+
+class _Body(_Section):
+    name: str = Field(min_length=1)
+    """Name of the body (in messages and output), unique in the case."""
+    mu: float = Field(0.0, ge=0)
+    """Coulomb friction coefficient of the fabric on this body."""
+    translation: Vector = [0.0, 0.0, 0.0]
+    """Placement: translation [m] applied after rotation and scale."""
+    rotation_deg: Direction = [0.0, 0.0, 0.0]
+    """Placement: rotations about x, y, z [degrees], applied in that order."""
+    scale: float = Field(1.0, gt=0)
+    """Placement: uniform scale factor."""
+    path: BodyPath | None = None
+    """Prescribed motion ``{times = [...], translations = [[x, y, z], ...]}``; none: still."""
+
+
+class PlaneBody(_Body):
+    """shape = "plane": a square patch facing ``normal``."""
+
+    shape: Literal["plane"]
+    point: Vector
+    """Centre of the patch [m]."""
+    normal: Direction = [0.0, 0.0, 1.0]
+    """Direction the patch faces (the fabric's side)."""
+    size: Q("m", gt=0)
+    """Side of the square [m]."""
+    resolution: int = Field(4, ge=1)
+    """Divisions per side."""
+
+
+class SphereBody(_Body):
+    """shape = "sphere"."""
+
+    shape: Literal["sphere"]
+    centre: Vector
+    """Centre [m]."""
+    radius: Q("m", gt=0)
+    """Radius [m]."""
+    resolution: int = Field(24, ge=3)
+    """Segments along a great circle."""
+
+
+class CylinderBody(_Body):
+    """shape = "cylinder": closed, along ``axis``."""
+
+    shape: Literal["cylinder"]
+    centre: Vector
+    """Centre of the axis [m]."""
+    axis: Direction = [0.0, 1.0, 0.0]
+    """Axis direction."""
+    radius: Q("m", gt=0)
+    """Radius [m]."""
+    length: Q("m", gt=0)
+    """Length along the axis [m]."""
+    resolution: int = Field(24, ge=3)
+    """Segments around the rim."""
+
+
+class BoxBody(_Body):
+    """shape = "box": a box with rounded edges."""
+
+    shape: Literal["box"]
+    centre: Vector
+    """Centre [m]."""
+    size: Vector
+    """Side lengths along x, y, z [m]."""
+    edge_radius: Q("m", ge=0) = 0.0
+    """Radius of the rounded edges [m]."""
+    resolution: int = Field(24, ge=3)
+    """Segments of a full circle of the rounded edges."""
+
+
+class DiscBody(_Body):
+    """shape = "disc": a round table with a rounded rim, its top face at the centre's height."""
+
+    shape: Literal["disc"]
+    centre: Vector
+    """Centre of the top face [m]."""
+    radius: Q("m", gt=0)
+    """Radius [m]."""
+    thickness: Q("m", gt=0)
+    """Thickness [m]."""
+    edge_radius: Q("m", ge=0) = 0.0
+    """Radius of the rounded rim [m]."""
+    resolution: int = Field(48, ge=3)
+    """Segments around the rim."""
+
+
+class MeshBody(_Body):
+    """shape = "mesh": a triangulated surface read from a file (meshio: STL, OBJ, PLY, VTU, ...)."""
+
+    shape: Literal["mesh"]
+    file: str
+    """Path of the surface file (relative to the case file)."""
+    units: str = "m"
+    """Length unit of the file's coordinates (m, mm, cm, inch, ...)."""
+
+
+#: The body tables by ``shape``.
+BODY_SHAPES = {"plane": PlaneBody, "sphere": SphereBody, "cylinder": CylinderBody, "box": BoxBody,
+               "disc": DiscBody, "mesh": MeshBody}
+
+BodySpec = Annotated[Union[PlaneBody, SphereBody, CylinderBody, BoxBody, DiscBody, MeshBody],
+                     Field(discriminator="shape")]
+
+
+class ContactSpec(_Section):
+    """[contact]: contact of the fabric with rigid bodies and with itself (IPC, ``drape.contact``)."""
+
+    thickness: Q("m", gt=0) | None = None
+    """Fabric thickness [m]: the mid-surface keeps half of it from a body. Default: the material's."""
+    dhat: Q("m", gt=0) = 1e-3
+    """Barrier activation distance d̂ [m] beyond half the thickness."""
+    barrier_stiffness: Q("N/m**3", gt=0) | None = None
+    """Barrier stiffness κ [N/m³]; default: a vertex carrying its share of the weight rests at
+    half the thickness plus d̂/2 (``drape.contact.stiffness``)."""
+    eps_v: Q("m/s", gt=0) = 1e-3
+    """Friction's stick velocity [m/s]: slower contacts stick (elastically)."""
+    self_contact: bool = False
+    """Let the fabric collide with itself."""
+    mu_self: float = Field(0.0, ge=0)
+    """Friction coefficient of the fabric on itself."""
+    body: list[BodySpec] = []
+    """``[[contact.body]]``: the rigid bodies."""
+
+    @model_validator(mode="after")
+    def _unique_names(self):
+        names = [b.name for b in self.body]
+        twice = sorted({n for n in names if names.count(n) > 1})
+        if twice:
+            raise _rule(f"contact.body names must be unique: {', '.join(twice)} given twice")
+        return self

@@ -1,0 +1,261 @@
+"""Incremental Potential Contact on the shell's dofs: barrier, lagged friction, safe steps.
+
+Li et al. 2020, "Incremental Potential Contact", ACM Trans. Graph. 39(4) (SIGGRAPH), with the
+IPC Toolkit (``ipctk``):
+
+- the barrier potential ``B(x) = κ Σ_k b(d_k² − dmin², 2 dmin d̂ + d̂²)`` over the pairs
+  (point–triangle, edge–edge, ...) closer than ``dmin + d̂``; ``dmin`` is half the fabric's
+  thickness (the fabric's faces lie that far from its mid-surface, which the shell models),
+  so the mid-surface never comes closer than ``dmin`` to a body;
+- smoothed Coulomb friction ``D(v) = Σ_k μ_k λ_k f₀(‖T_kᵀ v‖)`` with the normal forces
+  ``λ_k`` and tangent bases ``T_k`` lagged at the committed state (rebuilt at every commit),
+  a function of the velocity: its gradient is a force like ``C v`` and its Hessian joins the
+  velocity part of the step's tangent; below ``eps_v`` a contact sticks elastically;
+- continuous collision detection: a Newton step is cut to 0.8 times the largest fraction of
+  it that keeps every pair at least ``dmin`` apart, so no iterate passes through.
+
+The fabric's collision vertices are the mesh vertices; their positions are the reference
+points plus the shell's vertex-value dofs (the Argyris value dof of each vertex, as in
+``nodal_displacement``), a linear selection ``x = X + P u``: forces on the dofs are ``Pᵀ g``,
+tangents ``Pᵀ H P`` (the Hessians projected to positive semi-definite, as IPC does).
+"""
+from __future__ import annotations
+
+import ipctk
+import numpy as np
+import scipy.sparse as sp
+
+from drape.contact.bodies import ContactInputError, Scene
+
+__all__ = ["Contact", "CCD_FRACTION"]
+
+#: Fraction of the step to the first touch that a line search may take (IPC's conservative
+#: rescaling, applied by the narrow phase).
+CCD_FRACTION = 0.8
+
+_PSD = ipctk.PSDProjectionMethod.CLAMP
+
+
+class Contact:
+    """Contact of a fabric (its vertex dofs) with the bodies of a scene, and with itself.
+
+    Parameters
+    ----------
+    scene : drape.contact.bodies.Scene
+    vertex_dofs : ndarray of int, shape (n_fabric, 3)
+        The dofs of the x, y, z displacement of every fabric vertex (in the scene's order).
+    ndofs : int
+        Size of the structural model's dof vector.
+    dhat : float
+        Barrier activation distance d̂ [m] beyond ``dmin``.
+    stiffness : float
+        Barrier stiffness κ [N/m³] (:func:`drape.contact.stiffness.barrier_stiffness`).
+    thickness : float
+        Fabric thickness [m]; ``dmin`` is half of it.
+    eps_v : float
+        Friction's stick velocity ε_v [m/s]: below it the friction force grows linearly.
+    mu_self : float
+        Friction coefficient of the fabric on itself (self-contact).
+    """
+
+    def __init__(self, scene: Scene, vertex_dofs, ndofs: int, *, dhat: float, stiffness: float,
+                 thickness: float = 0.0, eps_v: float = 1e-3, mu_self: float = 0.0):
+        for name, value, low in (("dhat", dhat, 0.0), ("stiffness", stiffness, 0.0), ("eps_v", eps_v, 0.0)):
+            if not (np.isfinite(value) and value > low):
+                raise ContactInputError(f"contact.{name} = {value!r} must be > 0")
+        if not (np.isfinite(thickness) and thickness >= 0):
+            raise ContactInputError(f"contact.thickness = {thickness!r} must be >= 0")
+        if not (np.isfinite(mu_self) and mu_self >= 0):
+            raise ContactInputError(f"contact.mu_self = {mu_self!r} must be >= 0")
+        self.scene = scene
+        self.vertex_dofs = np.asarray(vertex_dofs, dtype=np.int64).reshape(scene.n_fabric, 3)
+        self._dofs = self.vertex_dofs.ravel()
+        self._m = self._dofs.size
+        self.ndofs = int(ndofs)
+        self.dhat, self.dmin = float(dhat), 0.5 * float(thickness)
+        self.kappa, self.mu_self = float(stiffness), float(mu_self)
+        self.barrier = ipctk.BarrierPotential(self.dhat, self.kappa)
+        self.friction = ipctk.FrictionPotential(float(eps_v))
+        self._mu = np.array([b.mu for b in scene.bodies] + [self.mu_self])
+        self._pattern = None
+        # additive CCD (Li et al. 2021, codimensional IPC) keeps a minimum distance cheaply
+        self._ccd = ipctk.AdditiveCCD(conservative_rescaling=CCD_FRACTION)
+        self._u_lag = np.zeros((scene.n_fabric, 3))
+        self._t_lag = 0.0
+        self._friction_work = 0.0
+        self._power = 0.0
+        self._lag(self._u_lag, self._t_lag)
+
+    # ------------------------------------------------------------------ kinematics
+    def fabric_values(self, u) -> np.ndarray:
+        """The fabric vertices' (n_fabric, 3) share of a dof vector (``P u``)."""
+        return np.asarray(u, dtype=float)[self.vertex_dofs]
+
+    def positions(self, u, t: float) -> np.ndarray:
+        """Positions of every collision vertex: the fabric at ``u``, the bodies at ``t``."""
+        return self.scene.positions(self.fabric_values(u), t)
+
+    def _collisions(self, x) -> ipctk.NormalCollisions:
+        collisions = ipctk.NormalCollisions()
+        collisions.build(self.scene.mesh, x, self.dhat, self.dmin)
+        return collisions
+
+    # ------------------------------------------------------------------ forces
+    def forces(self, u, v, t: float, weights=None):
+        """Contact force on the dofs and, with ``weights = (c_K, c_C)``, its tangent.
+
+        Returns
+        -------
+        force : ndarray (ndofs,)
+            ``Pᵀ (∇B(x) + ∇D(v))``: barrier and lagged friction, as a resisting force (the
+            residual's sign, like ``f_int``).
+        tangent : (rows, cols, values) or None
+            ``c_K Pᵀ ∇²B P + c_C Pᵀ ∇²D P`` as coordinates in the dofs (PSD-projected Hessians).
+        """
+        mesh = self.scene.mesh
+        x = self.positions(u, t)
+        collisions = self._collisions(x)
+        force = np.zeros(self.ndofs)
+        parts = []
+        if len(collisions):
+            force[self._dofs] += self.barrier.gradient(collisions, mesh, x)[:self._m]
+            if weights is not None and weights[0] != 0.0:
+                parts.append(weights[0] * self._fabric_block(self.barrier.hessian(collisions, mesh, x, _PSD)))
+        if not self._lagged.empty():
+            w = self.scene.velocities(self.fabric_values(v), t)
+            force[self._dofs] += self.friction.gradient(self._lagged, mesh, w)[:self._m]
+            if weights is not None and weights[1] != 0.0:
+                parts.append(weights[1] * self._fabric_block(self.friction.hessian(self._lagged, mesh, w, _PSD)))
+        if weights is None:
+            return force, None
+        if not parts:
+            return force, (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))
+        block = sum(parts[1:], parts[0]).tocoo()
+        return force, (self._dofs[block.row], self._dofs[block.col], block.data)
+
+    def _fabric_block(self, H):
+        """The fabric vertices' block of a collision-mesh Hessian (bodies are prescribed)."""
+        return sp.csc_matrix(H)[:self._m, :self._m]
+
+    def add_tangent(self, J, tangent):
+        """``J`` (CSR) plus the coordinates ``tangent``: scattered into ``J``'s data when every
+        entry is in its pattern (contact with bodies: a vertex with itself or with its
+        triangle's vertices), else a sparse sum (self-contact couples distant vertices)."""
+        rows, cols, values = tangent
+        if values.size == 0:
+            return J
+        if self._pattern is None or self._pattern[0] is not J.indptr:
+            r = np.repeat(np.arange(J.shape[0], dtype=np.int64), np.diff(J.indptr))
+            self._pattern = (J.indptr, r * J.shape[1] + J.indices)
+        keys = self._pattern[1]
+        wanted = rows * J.shape[1] + cols
+        pos = np.minimum(np.searchsorted(keys, wanted), keys.size - 1)
+        if np.array_equal(keys[pos], wanted):
+            data = J.data + np.bincount(pos, weights=values, minlength=J.nnz)
+            return sp.csr_matrix((data, J.indices, J.indptr), shape=J.shape)
+        return (J + sp.csr_matrix((values, (rows, cols)), shape=J.shape)).tocsr()
+
+    def body_forces(self, u, v, t: float) -> dict:
+        """Force [N] the fabric exerts on each body (barrier and friction), by name."""
+        mesh = self.scene.mesh
+        x = self.positions(u, t)
+        collisions = self._collisions(x)
+        g = np.zeros(x.shape)
+        if len(collisions):
+            g += self.barrier.gradient(collisions, mesh, x).reshape(-1, 3)
+        if v is not None and not self._lagged.empty():
+            w = self.scene.velocities(self.fabric_values(v), t)
+            g += self.friction.gradient(self._lagged, mesh, w).reshape(-1, 3)
+        owner = self.scene.body_of_vertex
+        return {b.name: -g[owner == k].sum(axis=0) for k, b in enumerate(self.scene.bodies)}
+
+    def energy(self, u, t: float) -> float:
+        """The barrier potential [J] at ``u``."""
+        x = self.positions(u, t)
+        collisions = self._collisions(x)
+        return float(self.barrier(collisions, self.scene.mesh, x)) if len(collisions) else 0.0
+
+    # ------------------------------------------------------------------ steps
+    def max_step(self, u0, u1, t: float, t0: float | None = None) -> float:
+        """Largest safe fraction in [0, 1] of the straight step from ``u0`` (bodies at ``t0``,
+        default ``t``) to ``u1`` (bodies at ``t``): 1 when no pair comes closer than ``dmin``,
+        else :data:`CCD_FRACTION` times the fraction at first touch (0 when not even the
+        start is safe)."""
+        x0 = self.positions(u0, t if t0 is None else t0)
+        x1 = self.positions(u1, t)
+        alpha = ipctk.compute_collision_free_stepsize(self.scene.mesh, x0, x1, self.dmin, None, self._ccd)
+        return min(1.0, float(alpha))
+
+    def check_start(self, u, t: float = 0.0) -> None:
+        """Refuse a start where the fabric intersects a body or itself, or lies closer than
+        ``dmin`` (half its thickness) to a body."""
+        x = self.positions(u, t)
+        if ipctk.has_intersections(self.scene.mesh, x):
+            raise ContactInputError("contact: the fabric starts intersecting a body"
+                                    + (" or itself" if self.scene.self_contact else "")
+                                    + "; move the body or the fabric apart")
+        collisions = self._collisions(x)
+        if len(collisions):
+            d = np.sqrt(max(collisions.compute_minimum_distance(self.scene.mesh, x), 0.0))
+            if d <= self.dmin:
+                raise ContactInputError(f"contact: the fabric starts {d:.3g} m from a body, closer than "
+                                        f"half its thickness ({self.dmin:.3g} m); move them apart")
+
+    # ------------------------------------------------------------------ state
+    def _lag(self, u_fabric, t: float) -> None:
+        """Friction's lagged normal forces and tangent bases at a committed state, with each
+        pair's μ: the body's for fabric–body pairs, ``mu_self`` for the fabric on itself."""
+        mesh = self.scene.mesh
+        x = self.scene.positions(u_fabric, t)
+        self._lagged = ipctk.TangentialCollisions()
+        collisions = self._collisions(x)
+        if not len(collisions) or not np.any(self._mu > 0):
+            return
+        self._lagged.build(mesh, x, collisions, self.barrier, 0.0)
+        owner = self.scene.body_of_vertex
+        for i in range(len(self._lagged)):
+            pair = self._lagged[i]
+            ids = [j for j in pair.vertex_ids(mesh.edges, mesh.faces) if j >= 0]
+            body = owner[ids].max()
+            pair.mu_s = pair.mu_k = self._mu[body]   # body -1 (fabric alone): the last, mu_self
+        self._lagged.reset_lagged_anisotropic_friction_coefficients()   # the μ the potential reads
+
+    def _friction_power(self, v_fabric, t: float) -> float:
+        if self._lagged.empty():
+            return 0.0
+        w = self.scene.velocities(v_fabric, t)
+        return float(self.friction.gradient(self._lagged, self.scene.mesh, w) @ w.ravel())
+
+    def commit(self, u, v, t: float) -> None:
+        """A converged step: book the friction work (trapezoidal power over the step, under the
+        step's lagged forces), then lag the friction at the new state."""
+        uf = self.fabric_values(u)
+        vf = None if v is None else self.fabric_values(v)
+        if vf is not None:
+            end = self._friction_power(vf, t)
+            self._friction_work += 0.5 * (self._power + end) * (t - self._t_lag)
+        self._u_lag, self._t_lag = uf, float(t)
+        self._lag(uf, t)
+        self._power = 0.0 if vf is None else self._friction_power(vf, t)
+
+    @property
+    def friction_work(self) -> float:
+        """Work [J] dissipated by contact friction so far."""
+        return self._friction_work
+
+    def state_dict(self) -> dict:
+        """What :meth:`commit` keeps: the lagged fabric positions and time, the booked work."""
+        return {"contact.u_lag": self._u_lag.copy(), "contact.t_lag": np.array(self._t_lag),
+                "contact.friction_work": np.array(self._friction_work),
+                "contact.power": np.array(self._power)}
+
+    def load_state_dict(self, state: dict) -> None:
+        """Restore a :meth:`state_dict` (the lagged friction is rebuilt from it)."""
+        try:
+            u_lag = np.asarray(state["contact.u_lag"], dtype=float).reshape(self._u_lag.shape)
+            t_lag = float(state["contact.t_lag"])
+            work, power = float(state["contact.friction_work"]), float(state["contact.power"])
+        except (KeyError, ValueError) as exc:
+            raise ValueError(f"contact state: missing or misshapen entry ({exc})") from None
+        self._u_lag, self._t_lag, self._friction_work, self._power = u_lag, t_lag, work, power
+        self._lag(u_lag, t_lag)

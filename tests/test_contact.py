@@ -1,0 +1,239 @@
+"""Contact of the shell with rigid bodies (IPC): each test against an independent reference.
+
+Bodies are built here from a tiny local helper (a large two-triangle plane patch), so the tests
+depend on nothing but the contact core.
+"""
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from skfem import MeshTri
+
+from constitutive.units import G0
+from drape.contact.bodies import ContactInputError, RigidBody, Scene
+from drape.contact.contact import Contact
+from drape.contact.stiffness import barrier_stiffness
+from drape.models.shell import ElasticMaterial, KirchhoffLoveShell
+from drape.solvers.newmark import NewmarkState, initial_state
+from drape.solvers.static import quasi_static
+from drape.solvers.time_stepping import integrate
+
+RHO_A = 0.2            # kg/m²
+THICKNESS, DHAT = 1e-3, 1e-3
+
+
+def plane(point, normal, size=3.0):
+    """A square two-triangle patch through ``point`` with ``normal``, ``size`` wide; its
+    diagonal is turned off the sheet's grid lines so no vertex sits over an edge."""
+    n = np.asarray(normal, float) / np.linalg.norm(normal)
+    e1 = np.cross(n, [0.3, 1.0, 0.1] if abs(n[1]) < 0.9 else [1.0, 0.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(n, e1)
+    corners = [(-1, -1.1), (1.05, -1), (1, 1), (-1.05, 1.1)]
+    vertices = np.array([np.asarray(point, float) + 0.5 * size * (a * e1 + b * e2) for a, b in corners])
+    triangles = np.array([[0, 1, 2], [0, 2, 3]])
+    if np.dot(np.cross(vertices[1] - vertices[0], vertices[2] - vertices[0]), n) < 0:
+        triangles = triangles[:, ::-1]
+    return SimpleNamespace(vertices=vertices, triangles=triangles)
+
+
+def sheet(L=0.2, W=0.2, nx=4, ny=4, bodies=(), *, mu_self=0.0, eps_v=1e-3, force_per_vertex=None, **shell_kw):
+    """A free elastic sheet on [0, L] × [0, W] at z = 0 with contact to ``bodies``."""
+    mesh = MeshTri.init_tensor(np.linspace(0, L, nx + 1), np.linspace(0, W, ny + 1))
+    kw = dict(clamped=(), rayleigh=(0.0, 0.0))
+    kw.update(shell_kw)
+    shell = KirchhoffLoveShell(mesh, ElasticMaterial(bending=1e-4, membrane=1e3, areal_mass=RHO_A), **kw)
+    points, triangles, dofs = shell.contact_vertices()
+    if force_per_vertex is None:
+        force_per_vertex = RHO_A * G0 * L * W / len(points)
+    contact = Contact(Scene(points, triangles, bodies), dofs, shell.ndofs, dhat=DHAT, thickness=THICKNESS,
+                      stiffness=barrier_stiffness(force_per_vertex, DHAT, THICKNESS / 2),
+                      eps_v=eps_v, mu_self=mu_self)
+    contact.check_start(np.zeros(shell.ndofs))
+    shell.attach_contact(contact)
+    return shell, contact
+
+
+def in_plane_dofs(shell):
+    """Every x and y dof: the sheet held in its plane (frictionless contact leaves it free)."""
+    return np.flatnonzero(np.arange(shell.ndofs) % 3 != 2)
+
+
+# ---------------------------------------------------------------------------- barrier
+
+
+def test_sheet_resting_on_a_plane_carries_its_weight_as_the_contact_reaction():
+    z0 = -(0.5 * THICKNESS + 0.7 * DHAT)
+    table = RigidBody("table", plane([0.1, 0.1, z0], [0, 0, 1]))
+    shell, contact = sheet(bodies=[table], fixed_dofs=in_plane_dofs(sheet(bodies=[table])[0]))
+    state = quasi_static(shell, [1.0], [1.0], rtol=1e-10, du_rtol=1e-10)
+    reaction = contact.body_forces(state.u, None, state.t)["table"]
+    weight = RHO_A * G0 * 0.2 * 0.2                          # ρ_A g A, the reference
+    assert reaction[2] == pytest.approx(-weight, rel=0.01)
+    assert np.hypot(*reaction[:2]) < 1e-3 * weight       # frictionless: no tangential force
+    gap = shell.nodal_displacement(state.u)[:, 2] - z0
+    assert gap.min() > 0.5 * THICKNESS and gap.max() < 0.5 * THICKNESS + DHAT
+
+
+def test_fast_falling_sheet_does_not_pass_through_the_plane():
+    z0 = -0.02
+    shell, contact = sheet(bodies=[RigidBody("floor", plane([0.1, 0.1, z0], [0, 0, 1]))])
+    v0 = np.zeros(shell.ndofs)
+    v0[shell.contact_vertices()[2][:, 2]] = -4.0     # vertex values of w: a uniform fall
+    dt = 0.02
+    assert 4.0 * dt > 2 * abs(z0)                    # one free step would land far below the plane
+    gaps = []
+
+    def record(state, info):
+        gaps.append(shell.nodal_displacement(state.u)[:, 2].min() - z0)
+
+    integrate(shell, 2 * dt, dt, initial_state(shell, v0=v0), alpha_hht=-0.3, on_step=record, max_cuts=8)
+    assert gaps and min(gaps) > 0.5 * THICKNESS       # the mid-surface stays half a thickness off
+    assert min(gaps) < 0.5 * THICKNESS + DHAT         # ... and it did land on the plane
+
+
+def test_step_cap_of_the_newton_problem_limits_a_step_through_the_plane():
+    shell, contact = sheet(bodies=[RigidBody("floor", plane([0.1, 0.1, -0.01], [0, 0, 1]))])
+    u0 = np.zeros(shell.ndofs)
+    u1 = u0.copy()
+    u1[shell.contact_vertices()[2][:, 2]] = -0.02
+    cap = shell.max_step(u0, u1, 0.0)
+    # the plane is 1 cm below, the mid-surface stops half a thickness above it: fraction ≤ 0.8 × 0.475
+    assert 0.0 < cap <= 0.8 * (0.01 - 0.5 * THICKNESS) / 0.02 + 1e-9
+    assert shell.max_step(u0, 0.1 * u1, 0.0) == 1.0
+
+
+def test_no_contact_evaluates_exactly_as_before():
+    mesh = MeshTri.init_tensor(np.linspace(0, 0.2, 4), np.linspace(0, 0.1, 3))
+    mat = ElasticMaterial(bending=1e-4, membrane=1e3, areal_mass=RHO_A)
+    plain = KirchhoffLoveShell(mesh, mat, clamped=())
+    rng = np.random.default_rng(1)
+    u, v, a = (1e-3 * rng.standard_normal(plain.ndofs) for _ in range(3))
+    far = RigidBody("far", plane([0.0, 0.0, -1.0], [0, 0, 1]))
+    touched = KirchhoffLoveShell(mesh, mat, clamped=())
+    pts, tris, dofs = touched.contact_vertices()
+    touched.attach_contact(Contact(Scene(pts, tris, [far]), dofs, touched.ndofs, dhat=DHAT, stiffness=1.0))
+    for shell_b in (KirchhoffLoveShell(mesh, mat, clamped=()), touched):
+        e1 = plain.evaluate(u, v, a, 0.3, "consistent", (1.0, 10.0, 100.0))
+        e2 = shell_b.evaluate(u, v, a, 0.3, "consistent", (1.0, 10.0, 100.0))
+        assert np.array_equal(e1.force, e2.force) and np.array_equal(e1.inertia, e2.inertia)
+        assert np.array_equal(e1.J.data, e2.J.data) and np.array_equal(e1.J.indices, e2.J.indices)
+    assert plain.max_step(u, 2 * u, 0.0) == 1.0
+
+
+# ---------------------------------------------------------------------------- input
+
+
+def test_fabric_starting_inside_a_body_is_refused():
+    with pytest.raises(ContactInputError, match="intersecting a body"):
+        sheet(bodies=[RigidBody("slab", plane([0.1, 0.1, 0.0], [0.2, 0, 1]))])
+    with pytest.raises(ContactInputError, match="closer than half its thickness"):
+        sheet(bodies=[RigidBody("slab", plane([0.1, 0.1, -0.2 * THICKNESS], [0, 0, 1]))])
+
+
+@pytest.mark.parametrize("surface, mu, message", [
+    (SimpleNamespace(vertices=[[0, 0, np.nan], [1, 0, 0], [0, 1, 0]], triangles=[[0, 1, 2]]), 0.1, "NaN"),
+    (SimpleNamespace(vertices=[[0, 0, 0], [1, 0, 0], [0, 1, 0]], triangles=np.zeros((0, 3), int)), 0.1,
+     "not a surface"),
+    (SimpleNamespace(vertices=[[0, 0, 0], [1, 0, 0], [0, 1, 0]], triangles=[[0, 1, 2]]), -0.1, "mu = -0.1"),
+])
+def test_bad_bodies_are_refused_with_one_line(surface, mu, message):
+    with pytest.raises(ContactInputError, match=message) as err:
+        RigidBody("b", surface, mu)
+    assert "\n" not in str(err.value)
+
+
+def test_contact_state_round_trips():
+    shell, contact = sheet(bodies=[RigidBody("floor", plane([0.1, 0.1, -0.0012], [0, 0, 1]), mu=0.3)])
+    u = np.zeros(shell.ndofs)
+    u[shell.contact_vertices()[2][:, 0]] = 1e-3
+    contact.commit(u, u, 0.1)
+    state = {k: np.array(v) for k, v in shell.state_dict().items()}
+    other, c2 = sheet(bodies=[RigidBody("floor", plane([0.1, 0.1, -0.0012], [0, 0, 1]), mu=0.3)])
+    other.load_state_dict(state)
+    v = np.ones(shell.ndofs) * 1e-2
+    assert np.array_equal(contact.forces(u, v, 0.1)[0], c2.forces(u, v, 0.1)[0])
+
+
+# ---------------------------------------------------------------------------- friction
+
+
+def slide_on_incline(tan_theta, mu, t_end=0.25, dt=0.01):
+    """A strip on a plane inclined by θ (gravity tilted instead: ``g cos θ`` into the plane,
+    ``g sin θ`` along x); its centre of mass's x displacement at each step."""
+    theta = np.arctan(tan_theta)
+    floor = RigidBody("floor", plane([0.05, 0.025, -(0.5 * THICKNESS + 0.5 * DHAT)], [0, 0, 1]), mu=mu)
+    pull = RHO_A * G0 * np.sin(theta)
+
+    def traction(x):
+        return np.stack([pull * np.ones_like(x[0]), 0 * x[0], 0 * x[0]])
+
+    shell, _ = sheet(0.1, 0.05, 4, 2, bodies=[floor], gravity=np.cos(theta), surface_load=(traction, 1.0),
+                     eps_v=1e-4)
+    times, x = [], []
+
+    def record(state, info):
+        times.append(state.t)
+        x.append(shell.nodal_displacement(state.u)[:, 0].mean())
+
+    integrate(shell, t_end, dt, initial_state(shell), alpha_hht=-0.3, on_step=record)
+    return np.array(times), np.array(x), theta
+
+
+def test_strip_on_an_incline_slides_with_coulomb_acceleration_above_tan_theta_mu():
+    mu = 0.3
+    t, x, theta = slide_on_incline(1.3 * mu, mu)
+    late = t > 0.05                                        # after the first contact transient
+    fit = np.polyfit(t[late], x[late], 2)                  # x = ½ a t² + v t + x0
+    expected = G0 * (np.sin(theta) - mu * np.cos(theta))   # Coulomb's sliding block
+    assert 2 * fit[0] == pytest.approx(expected, rel=0.02)
+
+
+def test_strip_on_an_incline_sticks_below_tan_theta_mu():
+    mu = 0.3
+    t, x, theta = slide_on_incline(0.8 * mu, mu)
+    frictionless = 0.5 * G0 * np.sin(theta) * t[-1] ** 2
+    assert abs(x[-1]) < 0.01 * frictionless               # IPC's smoothed stick creeps below eps_v only
+
+
+# ---------------------------------------------------------------------------- case file
+
+
+def case_with(contact, kinematics="large"):
+    from drape.case.case import parse_case
+
+    return parse_case({
+        "case": {"name": "c"}, "material": {"name": "fabric1"},
+        "mesh": {"kind": "rectangle", "length": 0.1, "width": 0.1, "nx": 2, "ny": 2,
+                 "element": "argyris"},
+        "model": {"kinematics": kinematics, "supports": {}},
+        "solver": {"dt": 0.01, "t_end": 0.1}, "contact": contact})
+
+
+@pytest.mark.parametrize("contact, kinematics, message", [
+    ({"body": [{"name": "t", "shape": "plane", "point": [0, 0, -0.01], "size": 1.0, "mu": -0.2}]},
+     "large", r"contact.body\[0\].mu = -0.2: must be >= 0"),
+    ({"body": [{"name": "t", "shape": "plane", "point": [0, 0, -0.01], "size": 1.0}]}, "small",
+     r"\[contact\] needs model.kinematics = 'large'"),
+    ({"body": [{"name": "t", "shape": "sphere", "centre": [0, 0, -1], "radius": 0.5},
+               {"name": "t", "shape": "sphere", "centre": [0, 0, -3], "radius": 0.5}]},
+     "large", "names must be unique: t given twice"),
+    ({"body": [{"name": "t", "shape": "cone", "centre": [0, 0, -1]}]}, "large", r"contact.body\[0\].shape = .cone.: must be one of"),
+    ({"dhat": "-1 mm"}, "large", "contact.dhat"),
+])
+def test_bad_contact_tables_are_refused_with_one_line(contact, kinematics, message):
+    from drape.case.case import CaseError
+
+    with pytest.raises(CaseError, match=message) as err:
+        case_with(contact, kinematics)
+    assert len(str(err.value).splitlines()) == 1
+
+
+def test_contact_table_reads_units():
+    case = case_with({"thickness": "0.4 mm", "dhat": "2 mm", "eps_v": "1 mm/s",
+                      "body": [{"name": "ball", "shape": "sphere", "centre": ["0 cm", "0 cm", "-5 cm"],
+                                "radius": "4 cm", "path": {"times": [0, 1], "translations": [[0, 0, 0],
+                                                                                            [0, 0, 0.01]]}}]})
+    spec = case.contact
+    assert (spec.thickness, spec.dhat, spec.eps_v) == pytest.approx((4e-4, 2e-3, 1e-3))
+    assert spec.body[0].centre == pytest.approx((0.0, 0.0, -0.05)) and spec.body[0].radius == pytest.approx(0.04)
