@@ -52,3 +52,58 @@ def test_crossing_interpolates_and_says_when_never_reached():
     assert hit["index"] == 3
     assert hit["overhang"] == pytest.approx(0.013 + 0.003 * 11.5 / 15)
     assert crossing([10.0, 20.0], [0.01, 0.02]) is None
+
+
+# --------------------------------------------------------------------------- the analysis
+def _context(edge_of_time, angles):
+    """A finished run as the analysis sees it: a strip hinged over a platform whose edge moves."""
+    from types import SimpleNamespace
+
+    from constitutive.material import load_material
+    from drape.contact import RigidPath, rounded_box
+
+    mesh = strip(0.04, 0.025, 16, 2)
+    platform = rounded_box((0.0, 0.0125, -0.005), (0.05, 0.05, 0.01), 0.0, 8)   # front at x = 0.025
+    times = np.arange(len(angles), dtype=float)
+    path = RigidPath(times, [[edge_of_time(t) - 0.025, 0, 0] for t in times])
+    body = SimpleNamespace(name="platform", surface=platform, offset=path.offset)
+    model = SimpleNamespace(contact=SimpleNamespace(scene=SimpleNamespace(bodies=[body])),
+                            load_time=0.0)
+    case = SimpleNamespace(mesh=SimpleNamespace(kind="strip"))
+    ctx = SimpleNamespace(case=case, mesh=mesh, model=model, material=load_material("fabric1"),
+                          history=[])
+    return ctx, mesh, times
+
+
+def test_peirce_platform_reads_half_the_overhang_at_the_line():
+    from drape.analyses import ANALYSES
+
+    analysis = ANALYSES["peirce_platform"]
+    edge = lambda t: 0.03 - 0.0025 * t                  # drawn back a column (2.5 mm) a second
+    angles = [20.0, 35.0, 40.0, 44.0]
+    ctx, mesh, times = _context(edge, angles)
+    for t, angle in zip(times, angles):
+        ctx.model.load_time = t
+        row = {"t": t, **analysis.probe(ctx, {"displacement": _hinged(mesh, edge(t), angle)})}
+        ctx.history.append(row)
+    assert [r["overhang_m"] for r in ctx.history] == pytest.approx([0.010, 0.0125, 0.015, 0.0175])
+    out = analysis.finish(ctx)
+    share = (41.5 - 40) / 4
+    assert out["reached"] and out["time_s"] == pytest.approx(2 + share)
+    assert out["bending_length_m"] == pytest.approx((0.015 + 0.0025 * share) / 2)
+    assert out["flexural_rigidity_Nm"] == pytest.approx(
+        ctx.material.areal_mass * 9.80665 * out["bending_length_m"] ** 3)
+
+
+def test_peirce_platform_says_when_the_line_is_not_reached_and_needs_a_platform():
+    from drape.analyses import ANALYSES
+    from drape.analyses.base import AnalysisInputError
+
+    analysis = ANALYSES["peirce_platform"]
+    ctx, mesh, _ = _context(lambda t: 0.03, [10.0])
+    ctx.history.append({"t": 0.0, **analysis.probe(ctx, {"displacement": _hinged(mesh, 0.03, 10.0)})})
+    out = analysis.finish(ctx)
+    assert out["reached"] is False and out["max_chord_angle_deg"] == pytest.approx(10.0)
+    ctx.model.contact.scene.bodies[0].name = "table"
+    with pytest.raises(AnalysisInputError, match="named 'platform'"):
+        analysis.probe(ctx, {"displacement": _hinged(mesh, 0.03, 10.0)})
