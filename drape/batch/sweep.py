@@ -53,6 +53,7 @@ from constitutive.units import G0
 from drape.batch.rows import MEASURED, RESULT_COLUMNS, SweepError, SweepRow, read_results
 from drape.case.build import build
 from drape.case.case import CaseError, dump_case, load_case
+from drape.fem.compiled import limit_threads
 from drape.run.checkpoint import CHECKPOINT, CheckpointError, read_checkpoint
 from drape.run.cli import describe, one_line
 from drape.run.lock import folder_lock
@@ -124,7 +125,9 @@ def run_row(case_path: str, overrides: list[str], run_dir: str, resume: bool = F
     what happened (this is the Dask task, and one run must not stop the others).
     """
     for key, value in SINGLE_THREADED.items():
-        os.environ.setdefault(key, value)
+        if key != "NUMBA_NUM_THREADS":    # numba's own count is fixed once its pool runs
+            os.environ.setdefault(key, value)
+    limit_threads(int(os.environ.get("NUMBA_NUM_THREADS", SINGLE_THREADED["NUMBA_NUM_THREADS"])))
 
     wall0 = time.perf_counter()
     out = {"run_dir": run_dir, "worker": _worker_address()}
