@@ -67,8 +67,9 @@ __all__ = ['SINGLE_THREADED', 'run_row', 'run_sweep']
 UNFINISHED = ("interrupted", "terminated", "lost")
 
 #: Thread limits of a run: one core per worker process, whatever its kernels could use.
-SINGLE_THREADED = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
-                   "OPENBLAS_NUM_THREADS": "1"}
+SINGLE_THREADED = {"OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
+# numba's kernels are capped by drape.fem.compiled.limit_threads, not by NUMBA_NUM_THREADS: numba
+# re-reads that variable at every compilation and refuses a value other than its pool's.
 
 
 def _one_line(exc: BaseException) -> str:
@@ -125,9 +126,8 @@ def run_row(case_path: str, overrides: list[str], run_dir: str, resume: bool = F
     what happened (this is the Dask task, and one run must not stop the others).
     """
     for key, value in SINGLE_THREADED.items():
-        if key != "NUMBA_NUM_THREADS":    # numba's own count is fixed once its pool runs
-            os.environ.setdefault(key, value)
-    limit_threads(int(os.environ.get("NUMBA_NUM_THREADS", SINGLE_THREADED["NUMBA_NUM_THREADS"])))
+        os.environ.setdefault(key, value)
+    limit_threads(1)
 
     wall0 = time.perf_counter()
     out = {"run_dir": run_dir, "worker": _worker_address()}
