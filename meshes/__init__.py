@@ -1,13 +1,14 @@
-"""Meshes for fabric specimens: strips, rectangles, Cusick annuli and imported meshes.
+"""Meshes for fabric specimens: strips, rectangles, Cusick annuli, circles and imported meshes.
 
 Every function returns an :class:`skfem.MeshTri` in metres with named
 boundaries (``mesh.boundaries[name]`` = facet indices), checked on creation
 (:func:`check_mesh`; errors are :class:`MeshError`, a ``ValueError``).
 """
 from .annulus import cusick_annulus
+from .circle import circle
 from .io import load_mesh, save_mesh
 from .quality import MeshError, MeshQuality, check_mesh
 from .rectangle import rectangle, strip
 
-__all__ = ["rectangle", "strip", "cusick_annulus", "load_mesh", "save_mesh", "check_mesh",
+__all__ = ["rectangle", "strip", "cusick_annulus", "circle", "load_mesh", "save_mesh", "check_mesh",
            "MeshError", "MeshQuality"]

@@ -63,7 +63,7 @@ def test_good_case_validates_with_defaults():
         (["model.kinematics='huge'"],
          "model.kinematics = 'huge': must be one of 'small' or 'large'"),
         (["mesh.kind='strp'"],
-         "mesh.kind = 'strp': must be one of 'strip', 'rectangle', 'cusick', 'file'"),
+         "mesh.kind = 'strp': must be one of 'strip', 'rectangle', 'cusick', 'circle', 'file'"),
         (["material.path='x.toml'"],
          "material: give exactly one of name, path or [material.kes] (got name, path)"),
         (["model.kinematics='large'", "mesh.element='morley'"],

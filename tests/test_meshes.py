@@ -216,3 +216,19 @@ def test_save_and_load_keep_geometry_and_boundaries(tmp_path):
         assert np.array_equal(back.t, mesh.t)
         for name, facets in mesh.boundaries.items():
             assert np.array_equal(np.sort(back.boundaries[name]), np.sort(facets))
+
+
+def test_circle_is_the_inscribed_polygon_in_good_triangles():
+    from meshes import circle
+    from meshes.quality import triangle_angles, triangle_areas
+
+    for n in (3, 8):
+        mesh = circle(0.30, n_rings=n, centre=(0.1, -0.2))
+        sides = 6 * n
+        polygon = 0.5 * sides * 0.15 ** 2 * np.sin(2 * np.pi / sides)
+        assert np.abs(triangle_areas(mesh.p, mesh.t)).sum() == pytest.approx(polygon, rel=1e-12)
+        assert triangle_angles(mesh.p, mesh.t).min() > 40
+        hem = np.unique(mesh.facets[:, mesh.boundaries["hem"]])
+        assert len(mesh.boundaries["hem"]) == sides
+        assert np.allclose(np.hypot(mesh.p[0, hem] - 0.1, mesh.p[1, hem] + 0.2), 0.15)
+    assert circle(0.30, target_size=0.05).p.shape[1] == 1 + 6 * (1 + 2 + 3)

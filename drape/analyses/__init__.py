@@ -17,20 +17,25 @@ Modules
 -------
 base
     :class:`RunContext`, :class:`Analysis`, :func:`plain`.
-peirce, cusick, kes, cycle
+peirce, cusick, kes, cycle, peirce_platform
     The analyses (``NAME``, ``finish``, ``probe``).
 bending_length
     Peirce / ASTM D1388: bending length and flexural rigidity of a cantilever.
+platform_reading
+    The Peirce tester's reading: overhang beyond a platform's edge, chord angle, the 41.5° line.
 drape_coefficient
     Cusick: drape coefficient, nodes, shadow and top view.
 outline
     The drape outline's harmonic amplitudes.
 scan, scan_measure
     A scanned drape read and measured like a simulated one (``drape measure``).
+intersections
+    Whether triangles of a deformed surface cross each other or a body (Möller's test), a
+    check of the contact solver by another route.
 """
 from __future__ import annotations
 
-from drape.analyses import cusick, cycle, kes, peirce
+from drape.analyses import cusick, cycle, kes, peirce, peirce_platform
 from drape.analyses.base import Analysis, AnalysisInputError, RunContext, plain
 
 __all__ = ["RunContext", "Analysis", "ANALYSES", "register", "unregister", "plain",
@@ -44,7 +49,7 @@ def _from_module(module) -> Analysis:
 #: Analyses by ``[case] analysis`` name.
 ANALYSES: dict[str, Analysis] = {
     "none": Analysis("none", lambda ctx: {}),
-    **{m.NAME: _from_module(m) for m in (peirce, cusick, kes, cycle)},
+    **{m.NAME: _from_module(m) for m in (peirce, cusick, kes, cycle, peirce_platform)},
 }
 
 

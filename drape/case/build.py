@@ -82,6 +82,9 @@ def triangles_asked(spec) -> float:
     """
     if spec.kind in ("strip", "rectangle"):
         return 2.0 * spec.nx * spec.ny
+    if spec.kind == "circle":
+        rings = spec.n_rings or max(1.0, 0.5 * spec.diameter / spec.target_size)
+        return 6.0 * rings ** 2
     if spec.kind != "cusick":
         return 0.0
     overhang = (spec.specimen_diameter - spec.disc_diameter) / 2
@@ -102,6 +105,8 @@ def _make_mesh(spec):
         return meshes.strip(spec.length, spec.width, spec.nx, spec.ny)
     if spec.kind == "rectangle":
         return meshes.rectangle(spec.length, spec.width, spec.nx, spec.ny)
+    if spec.kind == "circle":
+        return meshes.circle(spec.diameter, n_rings=spec.n_rings, target_size=spec.target_size)
     if spec.kind == "cusick":
         return meshes.cusick_annulus(spec.specimen_diameter, spec.disc_diameter,
                                      n_radial=spec.n_radial,

@@ -79,7 +79,8 @@ from drape.case.loads import (  # noqa: F401
     Pressure,
 )
 from drape.case.material_tables import CaseMaterial, LawOverride  # noqa: F401
-from drape.case.mesh_tables import CusickMesh, FileMesh, MeshSpec, RectangleMesh, StripMesh  # noqa: F401
+from drape.case.mesh_tables import (CircleMesh, CusickMesh, FileMesh, MeshSpec,  # noqa: F401
+                                    RectangleMesh, StripMesh)
 from drape.case.quantities import _Section, _rule
 from drape.case.schema import (  # noqa: F401  (the tables, importable with the case)
     CaseInfo,
@@ -217,7 +218,7 @@ STEPS_PER_SHAKE = 10
 """Fewest time steps a cycle of ``[load.agitation]`` may take."""
 
 _MESH_VARIANTS = {"strip": StripMesh, "rectangle": RectangleMesh, "cusick": CusickMesh,
-                  "file": FileMesh}
+                  "circle": CircleMesh, "file": FileMesh}
 
 
 def parse_case(data: dict, base_dir: Path | str | None = None) -> Case:

@@ -1,4 +1,4 @@
-"""The ``[mesh]`` table of a case: a strip, a rectangle, a Cusick annulus or a mesh file.
+"""The ``[mesh]`` table of a case: a strip, a rectangle, a Cusick annulus, a circle or a mesh file.
 """
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from pydantic import (
 
 from drape.case.quantities import Q, _rule, _Section
 
-__all__ = ['StripMesh', 'RectangleMesh', 'CusickMesh', 'FileMesh', 'MeshSpec']
+__all__ = ['StripMesh', 'RectangleMesh', 'CusickMesh', 'CircleMesh', 'FileMesh', 'MeshSpec']
 
 
 class _MeshBase(_Section):
@@ -79,6 +79,19 @@ class CusickMesh(_MeshBase):
         return self
 
 
+class CircleMesh(_MeshBase):
+    """[mesh] kind = "circle": a whole circular specimen centred at 0 (a drape over a body);
+    boundary ``hem``."""
+
+    kind: Literal["circle"]
+    diameter: Q("m", gt=0)
+    """Specimen diameter [m]."""
+    target_size: Q("m", gt=0) = 0.01
+    """Nominal element size [m]; sets the rings when ``n_rings`` is not given."""
+    n_rings: int | None = Field(None, ge=1)
+    """Rings of triangles from the centre to the hem (6 n_rings² triangles)."""
+
+
 class FileMesh(_MeshBase):
     """[mesh] kind = "file": an external triangle mesh read with meshio (gmsh .msh, .vtu, ...);
     boundaries are the file's named line groups."""
@@ -91,7 +104,7 @@ class FileMesh(_MeshBase):
 
 
 MeshSpec = Annotated[
-    Union[StripMesh, RectangleMesh, CusickMesh, FileMesh], Field(discriminator="kind")
+    Union[StripMesh, RectangleMesh, CusickMesh, CircleMesh, FileMesh], Field(discriminator="kind")
 ]
 
 

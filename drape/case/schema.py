@@ -293,7 +293,8 @@ class StopSpec(_Section):
     inertia and viscous terms; norm over the free dofs) falls below this fraction of the weight
     (norm of the self-weight force vector). 0: never stop early, run to t_end."""
     after: Q("s", ge=0) | None = None
-    """Check only after this time [s]; default: when the loads stop changing."""
+    """Check only after this time [s]; default: when the loads stop changing and the contact
+    bodies stop moving."""
     steps: int = Field(5, ge=1)
     """Consecutive converged steps that must satisfy the rule."""
 

@@ -13,13 +13,37 @@ import numpy as np
 
 from constitutive.kes import kes_profile
 
-__all__ = ["time_phases", "hit_times", "pseudo_times"]
+__all__ = ["time_phases", "hit_times", "pseudo_times", "changes_end"]
+
+
+def changes_end(case) -> float:
+    """Time after which nothing the run is driven by changes: the loads
+    (:meth:`drape.case.loads.LoadSpec.end_time`) and the contact bodies' paths (their last
+    keyframe); the settling phase and the ``[stop]`` rule start there.
+
+    >>> from drape.case.case import parse_case
+    >>> c = parse_case({"case": {"name": "x"}, "material": {"name": "f"},
+    ...     "mesh": {"kind": "strip", "length": 1.0, "width": 0.1, "nx": 4},
+    ...     "model": {"kinematics": "large"}, "load": {"gravity": {"ramp_time": 0.2}},
+    ...     "contact": {"thickness": 1e-3, "body": [{"name": "floor", "shape": "plane",
+    ...         "point": [0, 0, -0.01], "size": 2.0,
+    ...         "path": {"times": [0.5, 1.5], "translations": [[0, 0, 0], [0, 0, -0.1]]}}]},
+    ...     "solver": {"dt": 0.01, "t_end": 3.0}})
+    >>> changes_end(c)
+    1.5
+    """
+    ends = [case.load.end_time()]
+    contact = getattr(case, "contact", None)
+    for body in (contact.body if contact is not None else ()):
+        if body.path is not None:
+            ends.append(float(body.path.times[-1]))
+    return max(ends)
 
 
 def time_phases(case) -> list[tuple[float, float, bool]]:
     """``(t_stop, dt_max, settling)`` of each stretch of a dynamic run: ``dt`` while loads
-    change, then (when ``settling_dt`` is given, once they are constant) a settling phase whose
-    step grows from ``dt`` up to ``settling_dt``.
+    change or a contact body moves, then (when ``settling_dt`` is given, once nothing changes,
+    :func:`changes_end`) a settling phase whose step grows from ``dt`` up to ``settling_dt``.
 
     >>> from drape.case.case import parse_case
     >>> c = parse_case({"case": {"name": "x"}, "material": {"name": "f"},
@@ -30,7 +54,7 @@ def time_phases(case) -> list[tuple[float, float, bool]]:
     [(0.2, 0.01, False), (1.0, 0.05, True)]
     """
     solver = case.solver
-    t_change = case.load.end_time()
+    t_change = changes_end(case)
     if solver.settling_dt is None or t_change >= solver.t_end:
         return [(solver.t_end, solver.dt, False)]
     settle = (solver.t_end, solver.settling_dt, True)
@@ -63,6 +87,10 @@ def hit_times(case) -> list[float]:
             times.add(part.ramp_time)
     if load.kes is not None:
         times.update(kes_profile(**load.kes.profile_kwargs()).phase_times.tolist())
+    contact = getattr(case, "contact", None)
+    for body in (contact.body if contact is not None else ()):
+        if body.path is not None:           # a body's path turns a corner at its keyframes
+            times.update(float(t) for t in body.path.times)
     return sorted(t for t in times if 0.0 < t < t_end)
 
 

@@ -14,11 +14,9 @@ from typing import Any
 import ipctk
 import numpy as np
 
+from .errors import ContactInputError
+
 __all__ = ["RigidBody", "Scene", "ContactInputError"]
-
-
-class ContactInputError(ValueError):
-    """A contact body or parameter breaks a rule; the message names it."""
 
 
 @dataclass(frozen=True)

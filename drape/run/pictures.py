@@ -97,8 +97,12 @@ def default_field(names: list[str]) -> str:
 
 
 def render_step(directory, field: str | None = None, step: int = -1, out=None,
-                window_size=(1200, 800)) -> Path:
-    """PNG of output step ``step`` (index into the PVD, negative from the end) coloured by ``field``."""
+                window_size=(1200, 800), bodies=None) -> Path:
+    """PNG of output step ``step`` (index into the PVD, negative from the end) coloured by ``field``.
+
+    ``bodies``, if given, is a function of time returning the rigid contact surfaces
+    (:class:`drape.contact.surface.Surface`) where they stand then; they are drawn in grey.
+    """
     import pyvista
 
     directory = Path(directory)
@@ -126,6 +130,8 @@ def render_step(directory, field: str | None = None, step: int = -1, out=None,
     plotter.add_mesh(grid.extract_feature_edges(boundary_edges=True, feature_edges=False,
                                                 manifold_edges=False),
                      color="grey", opacity=0.4, line_width=1)   # reference outline
+    for surface in (bodies(t) if bodies is not None else ()):
+        plotter.add_mesh(surface.to_polydata(), color="lightgrey", smooth_shading=True)
     plotter.add_text(f"{pvd.stem}  t = {t:.4g} s  (step {index})", font_size=10)
     plotter.add_axes()
     plotter.view_isometric()

@@ -22,6 +22,7 @@ import math
 
 import numpy as np
 
+from drape.case.timeline import changes_end
 from drape.models.protocol import free_dofs
 
 __all__ = ["Settling", "out_of_balance"]
@@ -106,7 +107,7 @@ class Settling:
     def __init__(self, case):
         stop = case.stop
         self.fraction = 0.0 if case.solver.quasi_static else float(stop.out_of_balance)
-        self.after = stop.after if stop.after is not None else case.load.end_time()
+        self.after = stop.after if stop.after is not None else changes_end(case)
         self.needed = stop.steps
         self.count = 0
         self.ratio = None
