@@ -363,3 +363,69 @@ def test_capstan_strip_sticks_below_and_slips_above_exp_mu_theta():
     moved, slide = capstan(1.03 * limit, mu, theta / 2, t_end=0.2)
     assert abs(creep) < 1e-3                     # smoothed stick: slower than eps_v = 1 mm/s
     assert slide > 5e-3 and moved > 1e-3         # sliding off the post
+
+
+# ---------------------------------------------------------------------------- a run
+
+
+CASE = """
+[case]
+name = "drop"
+[mesh]
+kind = "rectangle"
+length = "10 cm"
+width = "10 cm"
+nx = 3
+ny = 3
+[material]
+name = "fabric1"
+[model]
+kinematics = "large"
+supports = {}
+[model.damping]
+alpha = 5.0
+[load.gravity]
+ramp_time = 0.0
+[solver]
+dt = 0.01
+t_end = 0.06
+alpha_hht = -0.3
+[contact]
+dhat = "1 mm"
+"""
+
+
+def run_case_text(tmp_path, bodies, capsys):
+    from drape.run import runner
+
+    path = tmp_path / "case.toml"
+    path.write_text(CASE + bodies)
+    code = runner.main([str(path), "--out", str(tmp_path / "out"), "--quiet"])
+    return code, capsys.readouterr().err.strip()
+
+
+def test_a_case_drops_the_fabric_on_a_plane_and_it_stays_above(tmp_path, capsys):
+    code, err = run_case_text(tmp_path, """
+[[contact.body]]
+name = "table"
+shape = "plane"
+point = ["5 cm", "5 cm", "-5 mm"]
+size = "30 cm"
+mu = 0.3
+""", capsys)
+    assert code == 0, err
+    history = np.genfromtxt(tmp_path / "out" / "history.csv", delimiter=",", names=True)
+    half = 0.5 * 0.254e-3                                     # half of Fabric 1's thickness
+    assert history["uz_min"].min() < -0.004                  # it fell onto the table ...
+    assert history["uz_min"].min() > -0.005 + half           # ... and not through it
+    assert np.isfinite(history["contact_potential"]).all()
+
+
+@pytest.mark.parametrize("body, message", [
+    ('shape = "mesh"\nfile = "nowhere.stl"', "contact.body 'b': "),
+    ('shape = "sphere"\ncentre = [0.05, 0.05, 0.0]\nradius = "2 cm"', "starts intersecting a body"),
+])
+def test_a_case_with_an_unusable_body_exits_2_with_one_line(tmp_path, capsys, body, message):
+    code, err = run_case_text(tmp_path, f'[[contact.body]]\nname = "b"\n{body}\n', capsys)
+    assert code == 2
+    assert message in err and len(err.splitlines()) == 1
