@@ -429,3 +429,20 @@ def test_a_case_with_an_unusable_body_exits_2_with_one_line(tmp_path, capsys, bo
     code, err = run_case_text(tmp_path, f'[[contact.body]]\nname = "b"\n{body}\n', capsys)
     assert code == 2
     assert message in err and len(err.splitlines()) == 1
+
+
+def test_a_rising_plane_lifts_the_sheet_without_passing_through():
+    from drape.contact.motion import RigidPath
+
+    z0 = -(0.5 * THICKNESS + 0.7 * DHAT)
+    lift = RigidPath([0.0, 0.05], [[0, 0, 0], [0, 0, 0.005]])   # 5 mm up in 0.05 s
+    shell, contact = sheet(bodies=[RigidBody("lift", plane([0.1, 0.1, z0], [0, 0, 1]), path=lift)])
+    gaps = []
+
+    def record(state, info):
+        plane_z = z0 + lift.offset(state.t)[2]
+        gaps.append(shell.nodal_displacement(state.u)[:, 2].min() - plane_z)
+
+    state = integrate(shell, 0.06, 0.01, initial_state(shell), alpha_hht=-0.3, on_step=record, max_cuts=8)
+    assert min(gaps) > 0.5 * THICKNESS                      # never through the moving plane
+    assert shell.nodal_displacement(state.u)[:, 2].min() > 0.004    # and carried up with it
