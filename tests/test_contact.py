@@ -9,12 +9,14 @@ import numpy as np
 import pytest
 from skfem import MeshTri
 
+import meshes
+
 from constitutive.units import G0
 from drape.contact.bodies import ContactInputError, RigidBody, Scene
 from drape.contact.contact import Contact
 from drape.contact.stiffness import barrier_stiffness
 from drape.models.shell import ElasticMaterial, KirchhoffLoveShell
-from drape.solvers.newmark import NewmarkState, initial_state
+from drape.solvers.newmark import initial_state
 from drape.solvers.static import quasi_static
 from drape.solvers.time_stepping import integrate
 
@@ -125,7 +127,7 @@ def test_no_contact_evaluates_exactly_as_before():
 
 
 def test_fabric_starting_inside_a_body_is_refused():
-    with pytest.raises(ContactInputError, match="intersecting a body"):
+    with pytest.raises(ContactInputError, match="intersecting body .slab."):
         sheet(bodies=[RigidBody("slab", plane([0.1, 0.1, 0.0], [0.2, 0, 1]))])
     with pytest.raises(ContactInputError, match="closer than half its thickness"):
         sheet(bodies=[RigidBody("slab", plane([0.1, 0.1, -0.2 * THICKNESS], [0, 0, 1]))])
@@ -271,3 +273,176 @@ def test_self_contact_pushes_layers_apart_and_stops_them_passing():
     off, u_off, *_ = two_pieces(False, gap)
     assert not np.any(off.forces(u_off, np.zeros_like(u_off), 0.0)[0])
     assert off.max_step(u_off, through, 0.0) == 1.0
+
+
+# ---------------------------------------------------------------------------- capstan
+
+
+def tube(centre, radius, length, facets=64):
+    """An open tube along y."""
+    a = np.linspace(0, 2 * np.pi, facets, endpoint=False)
+    ring = np.column_stack([radius * np.cos(a), np.zeros(facets), radius * np.sin(a)])
+    vertices = np.vstack([ring - [0, length / 2, 0], ring + [0, length / 2, 0]]) + centre
+    i = np.arange(facets)
+    j = (i + 1) % facets
+    triangles = np.vstack([np.column_stack([i, j, facets + j]), np.column_stack([i, facets + j, facets + i])])
+    return SimpleNamespace(vertices=vertices, triangles=triangles)
+
+
+def smooth(t, t0, t1):
+    s = np.clip((t - t0) / (t1 - t0), 0.0, 1.0)
+    return s * s * (3 - 2 * s)
+
+
+def wrapped(x, L, Rc, phi):
+    """The strip laid over the circle of radius Rc (top at z = 0 over x = L/2), leaving it along
+    the tangents at ±φ: displacement, its gradient and Hessian (arc length kept)."""
+    s = x[0] - L / 2
+    a = np.clip(s / Rc, -phi, phi)
+    beyond = s - Rc * a
+    on = np.abs(s) <= Rc * phi
+    px = L / 2 + Rc * np.sin(a) + beyond * np.cos(phi)
+    pz = -Rc + Rc * np.cos(a) - np.abs(beyond) * np.sin(phi)
+    tx = np.where(on, np.cos(a), np.cos(phi))
+    tz = np.where(on, -np.sin(a), -np.sign(s) * np.sin(phi))
+    kx = np.where(on, -np.sin(a) / Rc, 0.0)
+    kz = np.where(on, -np.cos(a) / Rc, 0.0)
+    o = 0 * s
+    value = np.stack([px - x[0], o, pz])
+    grad = np.stack([np.stack([tx - 1, o]), np.stack([o, o]), np.stack([tz, o])])
+    hess = np.stack([np.stack([np.stack([kx, o]), np.stack([o, o])]), np.zeros((2, 2) + s.shape),
+                     np.stack([np.stack([kz, o]), np.stack([o, o])])])
+    return value, grad, hess
+
+
+def capstan(ratio, mu, phi, t_end, T1=0.05, L=0.2, W=0.02, nx=20, R=0.04, dt=0.01):
+    """A strip laid over a post wrapping 2φ, pulled by T1 and T2 = ratio T1 along its tangents:
+    the loaded end's displacement [m] along the pull after T2 has risen (0.1 s), and its last speed."""
+    mesh = meshes.strip(L, W, nx, 1)
+    Rc = R + 0.5 * THICKNESS + 0.5 * DHAT
+    post = RigidBody("post", tube([L / 2, W / 2, -Rc], R, 4 * W), mu=mu)
+    a = L / nx
+    left = T1 * np.array([-np.cos(phi), 0, -np.sin(phi)]) / (a * W)
+    pull = np.array([np.cos(phi), 0, -np.sin(phi)])
+
+    def traction(x):
+        return np.where(x[0] < a, 1.0, 0.0) * left[:, None, None] * np.ones_like(x[0])
+
+    def edge(t):
+        return T1 * (1 + (ratio - 1) * smooth(t, 0.0, 0.1)) * pull / W
+
+    shell = KirchhoffLoveShell(mesh, ElasticMaterial(bending=1e-6, membrane=1e4, areal_mass=0.2), clamped=(),
+                               gravity=0.0, surface_load=(traction, 1.0), edge_load=edge,
+                               load_boundary="free_end", rayleigh=(100.0, 0.0))
+    u0 = shell.interpolate(lambda x: wrapped(x, L, Rc, phi)[0], lambda x: wrapped(x, L, Rc, phi)[1],
+                           lambda x: wrapped(x, L, Rc, phi)[2])
+    points, triangles, dofs = shell.contact_vertices()
+    contact = Contact(Scene(points, triangles, [post]), dofs, shell.ndofs, dhat=DHAT, thickness=THICKNESS,
+                      stiffness=barrier_stiffness(T1 * a / (2 * R), DHAT, THICKNESS / 2), eps_v=1e-3)
+    contact.check_start(u0)
+    contact.commit(u0, None, 0.0)       # friction lagged at the laid strip
+    shell.attach_contact(contact)
+    end = np.flatnonzero(points[:, 0] > L - 1e-9)
+    track = []
+
+    def record(state, info):
+        track.append((state.t, shell.nodal_displacement(state.u - u0)[end].mean(axis=0) @ pull))
+
+    integrate(shell, t_end, dt, initial_state(shell, u0=u0), alpha_hht=-0.3, on_step=record, max_cuts=8,
+              grow_after=1)
+    t, s = np.array(track).T
+    after = t >= 0.1
+    return s[-1] - np.interp(0.1, t, s), (s[-1] - s[after][0]) / max(t[-1] - t[after][0], 1e-12)
+
+
+def test_capstan_strip_sticks_below_and_slips_above_exp_mu_theta():
+    """Euler–Eytelwein: a strip wrapping θ of a post slips once T2/T1 exceeds exp(μθ)."""
+    mu, theta = 0.3, np.radians(60.0)
+    limit = np.exp(mu * theta)
+    _, creep = capstan(0.97 * limit, mu, theta / 2, t_end=0.2)
+    moved, slide = capstan(1.03 * limit, mu, theta / 2, t_end=0.2)
+    assert abs(creep) < 1e-3                     # smoothed stick: slower than eps_v = 1 mm/s
+    assert slide > 5e-3 and moved > 1e-3         # sliding off the post
+
+
+# ---------------------------------------------------------------------------- a run
+
+
+CASE = """
+[case]
+name = "drop"
+[mesh]
+kind = "rectangle"
+length = "10 cm"
+width = "10 cm"
+nx = 3
+ny = 3
+[material]
+name = "fabric1"
+[model]
+kinematics = "large"
+supports = {}
+[model.damping]
+alpha = 5.0
+[load.gravity]
+ramp_time = 0.0
+[solver]
+dt = 0.01
+t_end = 0.06
+alpha_hht = -0.3
+[contact]
+dhat = "1 mm"
+"""
+
+
+def run_case_text(tmp_path, bodies, capsys):
+    from drape.run import runner
+
+    path = tmp_path / "case.toml"
+    path.write_text(CASE + bodies)
+    code = runner.main([str(path), "--out", str(tmp_path / "out"), "--quiet"])
+    return code, capsys.readouterr().err.strip()
+
+
+def test_a_case_drops_the_fabric_on_a_plane_and_it_stays_above(tmp_path, capsys):
+    code, err = run_case_text(tmp_path, """
+[[contact.body]]
+name = "table"
+shape = "plane"
+point = ["5 cm", "5 cm", "-5 mm"]
+size = "30 cm"
+mu = 0.3
+""", capsys)
+    assert code == 0, err
+    history = np.genfromtxt(tmp_path / "out" / "history.csv", delimiter=",", names=True)
+    half = 0.5 * 0.254e-3                                     # half of Fabric 1's thickness
+    assert history["uz_min"].min() < -0.004                  # it fell onto the table ...
+    assert history["uz_min"].min() > -0.005 + half           # ... and not through it
+    assert np.isfinite(history["contact_potential"]).all()
+
+
+@pytest.mark.parametrize("body, message", [
+    ('shape = "mesh"\nfile = "nowhere.stl"', "contact.body 'b': "),
+    ('shape = "sphere"\ncentre = [0.05, 0.05, 0.0]\nradius = "2 cm"', "starts intersecting body 'b'"),
+])
+def test_a_case_with_an_unusable_body_exits_2_with_one_line(tmp_path, capsys, body, message):
+    code, err = run_case_text(tmp_path, f'[[contact.body]]\nname = "b"\n{body}\n', capsys)
+    assert code == 2
+    assert message in err and len(err.splitlines()) == 1
+
+
+def test_a_rising_plane_lifts_the_sheet_without_passing_through():
+    from drape.contact.motion import RigidPath
+
+    z0 = -(0.5 * THICKNESS + 0.7 * DHAT)
+    lift = RigidPath([0.0, 0.05], [[0, 0, 0], [0, 0, 0.005]])   # 5 mm up in 0.05 s
+    shell, contact = sheet(bodies=[RigidBody("lift", plane([0.1, 0.1, z0], [0, 0, 1]), path=lift)])
+    gaps = []
+
+    def record(state, info):
+        plane_z = z0 + lift.offset(state.t)[2]
+        gaps.append(shell.nodal_displacement(state.u)[:, 2].min() - plane_z)
+
+    state = integrate(shell, 0.06, 0.01, initial_state(shell), alpha_hht=-0.3, on_step=record, max_cuts=8)
+    assert min(gaps) > 0.5 * THICKNESS                      # never through the moving plane
+    assert shell.nodal_displacement(state.u)[:, 2].min() > 0.004    # and carried up with it

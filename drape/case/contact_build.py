@@ -9,8 +9,10 @@ from __future__ import annotations
 import numpy as np
 
 from constitutive.units import G0
+from drape.contact import shapes
 from drape.contact.bodies import ContactInputError, RigidBody, Scene
 from drape.contact.contact import Contact
+from drape.contact.motion import RigidPath
 from drape.contact.stiffness import barrier_stiffness
 
 __all__ = ["build_contact", "body_surface"]
@@ -18,8 +20,6 @@ __all__ = ["build_contact", "body_surface"]
 
 def body_surface(spec):
     """The placed surface of one ``[[contact.body]]`` table (metres)."""
-    from drape.contact import shapes
-
     kind = spec.shape
     if kind == "plane":
         surface = shapes.plane(spec.point, spec.normal, spec.size, spec.resolution)
@@ -37,8 +37,6 @@ def body_surface(spec):
 
 
 def _body(spec) -> RigidBody:
-    from drape.contact.motion import RigidPath
-
     try:
         path = None if spec.path is None else RigidPath(spec.path.times, spec.path.translations)
         return RigidBody(spec.name, body_surface(spec), spec.mu, path)

@@ -191,15 +191,25 @@ class Contact:
         ``dmin`` (half its thickness) to a body."""
         x = self.positions(u, t)
         if ipctk.has_intersections(self.scene.mesh, x):
-            raise ContactInputError("contact: the fabric starts intersecting a body"
-                                    + (" or itself" if self.scene.self_contact else "")
-                                    + "; move the body or the fabric apart")
+            raise ContactInputError(f"contact: the fabric starts intersecting {self._intersected(x)}; "
+                                    "move the body or the fabric apart")
         collisions = self._collisions(x)
         if len(collisions):
             d = np.sqrt(max(collisions.compute_minimum_distance(self.scene.mesh, x), 0.0))
             if d <= self.dmin:
                 raise ContactInputError(f"contact: the fabric starts {d:.3g} m from a body, closer than "
                                         f"half its thickness ({self.dmin:.3g} m); move them apart")
+
+    def _intersected(self, x) -> str:
+        """Which body (or the fabric itself) the fabric intersects at ``x``, in words."""
+        n = self.scene.n_fabric
+        fabric = x[:n]
+        for k, body in enumerate(self.scene.bodies):
+            fabric_faces = self.scene.faces[np.all(self.scene.faces < n, axis=1)]
+            alone = Scene(self.scene.rest[:n], fabric_faces, [body])
+            if ipctk.has_intersections(alone.mesh, np.vstack([fabric, x[n:][self.scene.body_of_vertex[n:] == k]])):
+                return f"body {body.name!r}"
+        return "itself"
 
     # ------------------------------------------------------------------ state
     def _lag(self, u_fabric, t: float) -> None:
