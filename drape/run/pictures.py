@@ -123,11 +123,12 @@ def contact_bodies(directory):
 
 
 def render_step(directory, field: str | None = None, step: int = -1, out=None,
-                window_size=(1200, 800), bodies=None) -> Path:
+                window_size=(1200, 800), bodies=None, view: str = "isometric") -> Path:
     """PNG of output step ``step`` (index into the PVD, negative from the end) coloured by ``field``.
 
     ``bodies``, if given, is a function of time returning the rigid contact surfaces
     (:class:`drape.contact.surface.Surface`) where they stand then; they are drawn in grey.
+    ``view``: "isometric" (lowered when there are bodies) or "xz" (from the side, along y).
     """
     import pyvista
 
@@ -157,13 +158,23 @@ def render_step(directory, field: str | None = None, step: int = -1, out=None,
                                                 manifold_edges=False),
                      color="grey", opacity=0.4, line_width=1)   # reference outline
     for surface in (bodies(t) if bodies is not None else ()):
-        plotter.add_mesh(surface.to_polydata(), color="lightgrey", smooth_shading=True)
+        plotter.add_mesh(surface.to_polydata(), color="lightgrey", smooth_shading=True,
+                         split_sharp_edges=True)
     plotter.add_text(f"{pvd.stem}  t = {t:.4g} s  (step {index})", font_size=10)
     plotter.add_axes()
-    plotter.view_isometric()
-    if bodies is not None:
-        plotter.camera.elevation = -20        # lower, to see the fabric hang over the bodies
-    plotter.reset_camera()
+    if view == "xz":
+        plotter.view_xz()
+        plotter.camera.elevation = 15         # a little from above, so a strip shows its width
+        plotter.enable_parallel_projection()
+    else:
+        plotter.view_isometric()
+        if bodies is not None:
+            plotter.camera.elevation = -20    # lower, to see the fabric hang over the bodies
+    if bodies is not None:                    # framed on the fabric, the bodies around it
+        plotter.reset_camera(bounds=shown.bounds)
+        plotter.camera.zoom(0.8)
+    else:
+        plotter.reset_camera()
     out = Path(out) if out else directory / f"{pvd.stem}_{field}_{index:04d}.png"
     out.parent.mkdir(parents=True, exist_ok=True)
     plotter.screenshot(str(out))
