@@ -28,7 +28,10 @@ def _step(folder) -> int:
     from drape.run.output import read_pvd
     from drape.run.pictures import find_pvd
 
-    analysis = json.loads((Path(folder) / "summary.json").read_text()).get("analysis", {})
+    summary = Path(folder) / "summary.json"
+    if not summary.is_file():
+        return -1
+    analysis = json.loads(summary.read_text()).get("analysis", {})
     if analysis.get("time_s") is None:
         return -1
     times = [t for t, _ in read_pvd(find_pvd(folder))]
