@@ -13,6 +13,7 @@ from drape.analyses.scan import read_scan
 from drape.case.case import load_case
 from drape.case.contact_build import body_surface
 from drape.run.output import read_pvd
+from drape.run.pictures import contact_bodies
 from drape.run.runner import main as run
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
@@ -36,6 +37,9 @@ def test_short_drop_folds_without_crossing_itself_or_a_body(tmp_path):
     assert code == 0
     case = load_case(path)
     bodies = [body_surface(b) for b in case.contact.body]      # they stand still in this case
+    drawn = contact_bodies(tmp_path)(0.3)                      # what drape inspect draws
+    assert [len(b.triangles) for b in drawn] == [len(b.triangles) for b in bodies]
+    assert all(np.array_equal(a.vertices, b.vertices) for a, b in zip(drawn, bodies))
     steps = read_pvd(tmp_path / "drop_fold.pvd")
     assert len(steps) >= 50
     for t, vtu in steps:
