@@ -297,7 +297,8 @@ def main(argv=None):
     if args.jobs > 1:
         from drape.batch.sweep import SINGLE_THREADED
 
-        os.environ.update(SINGLE_THREADED)   # one core per run: kernels and PARDISO don't fight
+        # one core per run (each a fresh process, so numba's pool size may be set): kernels and PARDISO don't fight
+        os.environ.update(SINGLE_THREADED, NUMBA_NUM_THREADS="1")
         with ThreadPoolExecutor(args.jobs) as pool:
             records = list(pool.map(_run, todo))
     else:

@@ -237,3 +237,37 @@ def test_contact_table_reads_units():
     spec = case.contact
     assert (spec.thickness, spec.dhat, spec.eps_v) == pytest.approx((4e-4, 2e-3, 1e-3))
     assert spec.body[0].centre == pytest.approx((0.0, 0.0, -0.05)) and spec.body[0].radius == pytest.approx(0.04)
+
+
+# ---------------------------------------------------------------------------- self-contact
+
+
+def two_pieces(self_contact, gap):
+    """Two separate squares of one fabric, the second laid ``gap`` over the first (vertex
+    positions only: contact sees the vertices)."""
+    a = MeshTri.init_tensor(np.linspace(0, 0.05, 3), np.linspace(0, 0.05, 3))
+    mesh = MeshTri(np.hstack([a.p, a.p + [[0.1], [0.0]]]), np.hstack([a.t, a.t + a.p.shape[1]]))
+    shell = KirchhoffLoveShell(mesh, ElasticMaterial(bending=1e-4, membrane=1e3, areal_mass=RHO_A), clamped=())
+    points, triangles, dofs = shell.contact_vertices()
+    contact = Contact(Scene(points, triangles, [], self_contact=self_contact), dofs, shell.ndofs,
+                      dhat=DHAT, thickness=THICKNESS, stiffness=1e3)
+    u = np.zeros(shell.ndofs)
+    upper = points[:, 0] > 0.075
+    u[dofs[upper, 0]] = -0.1 + 0.003                          # over the first, a little aside
+    u[dofs[upper, 2]] = gap
+    return contact, u, dofs, upper
+
+
+def test_self_contact_pushes_layers_apart_and_stops_them_passing():
+    gap = 0.5 * THICKNESS + 0.5 * DHAT                      # inside the barrier layer
+    contact, u, dofs, upper = two_pieces(True, gap)
+    force = contact.forces(u, np.zeros_like(u), 0.0)[0]
+    # a resisting force (the residual's sign): ∂B/∂z < 0 on the upper layer, > 0 on the lower
+    assert force[dofs[upper, 2]].sum() < 0 < force[dofs[~upper, 2]].sum()
+    assert force[dofs[:, 2]].sum() == pytest.approx(0.0, abs=1e-9 * abs(force[dofs[upper, 2]].sum()))
+    through = u.copy()
+    through[dofs[upper, 2]] = -gap                           # the upper layer moved below the lower
+    assert contact.max_step(u, through, 0.0) < 0.5
+    off, u_off, *_ = two_pieces(False, gap)
+    assert not np.any(off.forces(u_off, np.zeros_like(u_off), 0.0)[0])
+    assert off.max_step(u_off, through, 0.0) == 1.0

@@ -165,3 +165,27 @@ def test_a_terminated_sweep_resumes_to_the_results_of_an_uninterrupted_one(
     expected = table(reference)
     assert [r["status"] for r in expected] == ["settled"] * 3
     assert table(out) == expected
+
+
+# --------------------------------------------------------------------------- threads
+def test_a_row_on_a_worker_whose_numba_threads_run_leaves_numba_able_to_compile(tmp_path):
+    """A worker that has run a parallel kernel has launched numba's pool; changing
+    NUMBA_NUM_THREADS after that makes numba's next compilation fail. A row caps the
+    kernels' threads without touching it."""
+    script = f"""
+import os
+os.environ.pop("NUMBA_NUM_THREADS", None)
+import numba
+from numba.np.ufunc import parallel
+parallel._launch_threads()
+from drape.batch import sweep
+row = sweep.run_row({str(CANTILEVER)!r}, {TINY!r}, {str(tmp_path / 'run')!r})
+assert row["status"] == "completed", row
+numba.core.config.reload_config()        # what every compilation does first
+from drape.fem import compiled, shell_kernels
+shell_kernels.use_threads(10 ** 6)
+assert compiled.thread_limit() == 1 and numba.get_num_threads() == 1
+print("ok")
+"""
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0 and done.stdout.strip().endswith("ok"), done.stderr[-2000:]

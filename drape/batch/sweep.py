@@ -53,6 +53,7 @@ from constitutive.units import G0
 from drape.batch.rows import MEASURED, RESULT_COLUMNS, SweepError, SweepRow, read_results
 from drape.case.build import build
 from drape.case.case import CaseError, dump_case, load_case
+from drape.fem.compiled import limit_threads
 from drape.run.checkpoint import CHECKPOINT, CheckpointError, read_checkpoint
 from drape.run.cli import describe, one_line
 from drape.run.lock import folder_lock
@@ -66,8 +67,9 @@ __all__ = ['SINGLE_THREADED', 'run_row', 'run_sweep']
 UNFINISHED = ("interrupted", "terminated", "lost")
 
 #: Thread limits of a run: one core per worker process, whatever its kernels could use.
-SINGLE_THREADED = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
-                   "OPENBLAS_NUM_THREADS": "1"}
+SINGLE_THREADED = {"OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
+# numba's kernels are capped by drape.fem.compiled.limit_threads, not by NUMBA_NUM_THREADS: numba
+# re-reads that variable at every compilation and refuses a value other than its pool's.
 
 
 def _one_line(exc: BaseException) -> str:
@@ -125,6 +127,7 @@ def run_row(case_path: str, overrides: list[str], run_dir: str, resume: bool = F
     """
     for key, value in SINGLE_THREADED.items():
         os.environ.setdefault(key, value)
+    limit_threads(1)
 
     wall0 = time.perf_counter()
     out = {"run_dir": run_dir, "worker": _worker_address()}

@@ -111,10 +111,13 @@ class Scene:
         self.edges = ipctk.edges(self.faces)
         self.mesh = ipctk.CollisionMesh(self.rest, self.edges, self.faces)
         # bodies never collide with one another; the fabric with itself only when asked (the
-        # components filter is given every face: a vertex outside its faces has no component)
+        # components filter is given every face, a vertex outside its faces having no component,
+        # and faces tying every fabric vertex to the first: a fabric in pieces is one component)
         self._filters = [ipctk.make_static_obstacle_filter(self.n_fabric)]
         if not self.self_contact:
-            self._filters.append(ipctk.make_connected_components_filter(self.faces))
+            tie = np.column_stack([np.zeros(self.n_fabric), np.arange(self.n_fabric),
+                                   np.arange(self.n_fabric)]).astype(np.int32)
+            self._filters.append(ipctk.make_connected_components_filter(np.vstack([self.faces, tie])))
         self._filters.append(self._filters[0] if len(self._filters) == 1 else self._filters[0] & self._filters[1])
         self.mesh.can_collide = self._filters[-1]   # the filters stay referenced by the scene
 

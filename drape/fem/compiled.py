@@ -11,10 +11,30 @@ from __future__ import annotations
 
 from numba import njit as _numba_njit
 
-__all__ = ["njit", "cache_is_cold"]
+__all__ = ["njit", "cache_is_cold", "limit_threads", "thread_limit"]
 
 #: Compiled functions with an on-disk cache, in the order they were defined.
 _CACHED = []
+
+#: The most threads a parallel kernel of this process may use (None: numba's pool size).
+_THREAD_LIMIT = None
+
+
+def limit_threads(n: int | None) -> None:
+    """Let parallel kernels of this process use at most ``n`` threads (None: every thread).
+
+    A sweep's worker runs on one core. The cap is kept here, not in ``NUMBA_NUM_THREADS``:
+    numba re-reads that variable whenever it compiles, and refuses a value other than the
+    one its thread pool was launched with (a worker that had already run a kernel would
+    fail at its next compilation).
+    """
+    global _THREAD_LIMIT
+    _THREAD_LIMIT = None if n is None else max(1, int(n))
+
+
+def thread_limit() -> int | None:
+    """The cap of :func:`limit_threads` (None: none)."""
+    return _THREAD_LIMIT
 
 
 def njit(*args, **options):

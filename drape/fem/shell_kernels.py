@@ -42,7 +42,7 @@ import numpy as np
 import scipy.sparse as sp
 from numba import prange
 
-from drape.fem.compiled import njit
+from drape.fem.compiled import njit, thread_limit
 
 __all__ = ['element_colours', 'use_threads', 'kinematics', 'curvature_rate', 'internal_force']
 
@@ -55,7 +55,8 @@ PARALLEL_MIN_ELEMENTS = 256
 
 def use_threads(n_elements: int) -> None:
     """Let the next kernel calls of this thread use every numba thread, or one for a small mesh."""
-    numba.set_num_threads(numba.config.NUMBA_NUM_THREADS if n_elements >= PARALLEL_MIN_ELEMENTS else 1)
+    n = numba.config.NUMBA_NUM_THREADS if n_elements >= PARALLEL_MIN_ELEMENTS else 1
+    numba.set_num_threads(min(n, thread_limit() or n))
 
 
 def element_colours(element_dofs):
