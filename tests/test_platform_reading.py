@@ -66,7 +66,7 @@ def _context(edge_of_time, angles):
     platform = rounded_box((0.0, 0.0125, -0.005), (0.05, 0.05, 0.01), 0.0, 8)   # front at x = 0.025
     times = np.arange(len(angles), dtype=float)
     path = RigidPath(times, [[edge_of_time(t) - 0.025, 0, 0] for t in times])
-    body = SimpleNamespace(name="platform", surface=platform, offset=path.offset)
+    body = SimpleNamespace(name="platform", surface=platform, offset=path.offset, path=path)
     model = SimpleNamespace(contact=SimpleNamespace(scene=SimpleNamespace(bodies=[body])),
                             load_time=0.0)
     case = SimpleNamespace(mesh=SimpleNamespace(kind="strip"))

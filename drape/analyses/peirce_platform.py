@@ -5,7 +5,8 @@ whose front face (its largest x, moved along its path) is the edge. The strip an
 platform move relative to each other (the platform drawn back under a strip held at its rear
 end, or the strip pushed); every step records the overhang beyond the edge and the chord
 angle to the tip (:mod:`drape.analyses.platform_reading`). The test reads the overhang where
-the chord angle first reaches 41.5° and gives the bending length as half of it, the
+the chord angle first reaches 41.5° and gives the bending length as half of it (and by
+Peirce's formula at 41.5°, 0.509 of it, as the clamped cantilever's analysis reports), the
 flexural rigidity ``G = W c³`` and ``G / B_KES``, as :mod:`drape.analyses.peirce` does for a
 clamped cantilever.
 """
@@ -15,6 +16,7 @@ import numpy as np
 
 from constitutive.units import G0
 from drape.analyses.base import AnalysisInputError
+from drape.analyses.bending_length import ASTM_CHORD_ANGLE, bending_length
 from drape.analyses.platform_reading import ASTM_CHORD_ANGLE_DEG, crossing, reading
 
 NAME = "peirce_platform"
@@ -51,8 +53,16 @@ def probe(ctx, fields: dict) -> dict:
 
 def finish(ctx) -> dict:
     """The overhang at 41.5° and the bending length, rigidity and ``G / B_KES`` from it; when the
-    tip never reached the line, ``reached = False`` and the largest chord angle."""
-    rows = [r for r in ctx.history if "chord_angle_deg" in r]
+    tip never reached the line, ``reached = False`` and the largest chord angle.
+
+    Only the steps from the first keyframe of the platform's path on count (all steps when it
+    stands still): the strip is let down onto the platform first, and the line is read as it is
+    moved over the edge."""
+    # the test is read while the strip moves over the edge: from the start of the platform's
+    # path, after the strip has come to rest under its weight (a transient may overshoot)
+    path = getattr(_platform(ctx), "path", None)
+    start = float(path.times[0]) if path is not None else 0.0
+    rows = [r for r in ctx.history if "chord_angle_deg" in r and r["t"] >= start]
     angle = np.array([r["chord_angle_deg"] for r in rows], dtype=float)
     overhang = np.array([r["overhang_m"] for r in rows], dtype=float)
     out = {"max_chord_angle_deg": float(np.nanmax(angle)) if np.isfinite(angle).any() else None,
@@ -71,5 +81,7 @@ def finish(ctx) -> dict:
         B_kes = ctx.material.simulated_kes()["warp"].B
     return {"reached": True, **out,
             "time_s": float(t[k] if k == 0 else t[k - 1] + share * (t[k] - t[k - 1])),
-            "overhang_m": hit["overhang"], "bending_length_m": c, "flexural_rigidity_Nm": G,
+            "overhang_m": hit["overhang"], "bending_length_m": c,
+            "bending_length_peirce_m": float(bending_length(hit["overhang"], ASTM_CHORD_ANGLE)),
+            "flexural_rigidity_Nm": G,
             "B_kes_Nm": float(B_kes), "G_over_B_kes": float(G / B_kes)}

@@ -35,7 +35,8 @@ from constitutive.units import to_kes
 from drape.run.cli import EXIT_BAD_INPUT
 from drape.run.output import read_pvd
 
-__all__ = ["find_pvd", "available", "render_step", "plot_history", "plot_kes_loop", "main"]
+__all__ = ["find_pvd", "available", "render_step", "contact_bodies", "plot_history", "plot_kes_loop",
+           "main"]
 
 
 class InspectError(ValueError):
@@ -96,12 +97,38 @@ def default_field(names: list[str]) -> str:
     return names[0]
 
 
+def contact_bodies(directory):
+    """The run's rigid contact bodies (``[[contact.body]]`` of its ``case.resolved.toml``) as a
+    function of time giving their surfaces where their paths put them; None without any."""
+    path = Path(directory) / "case.resolved.toml"
+    if not path.is_file():
+        return None
+    from drape.case.case import CaseError, load_case
+    from drape.case.contact_build import body_surface
+    from drape.contact import ContactInputError, RigidPath
+
+    try:
+        case = load_case(path)
+        if case.contact is None or not case.contact.body:
+            return None
+        placed = [(body_surface(b), None if b.path is None else RigidPath(b.path.times, b.path.translations))
+                  for b in case.contact.body]
+    except (CaseError, ContactInputError, OSError):
+        return None          # the picture goes without the bodies rather than not at all
+
+    def at(t):
+        return [s if p is None else s.placed(translation=p.offset(t)) for s, p in placed]
+
+    return at
+
+
 def render_step(directory, field: str | None = None, step: int = -1, out=None,
-                window_size=(1200, 800), bodies=None) -> Path:
+                window_size=(1200, 800), bodies=None, view: str = "isometric") -> Path:
     """PNG of output step ``step`` (index into the PVD, negative from the end) coloured by ``field``.
 
     ``bodies``, if given, is a function of time returning the rigid contact surfaces
     (:class:`drape.contact.surface.Surface`) where they stand then; they are drawn in grey.
+    ``view``: "isometric" (lowered when there are bodies) or "xz" (from the side, along y).
     """
     import pyvista
 
@@ -131,11 +158,23 @@ def render_step(directory, field: str | None = None, step: int = -1, out=None,
                                                 manifold_edges=False),
                      color="grey", opacity=0.4, line_width=1)   # reference outline
     for surface in (bodies(t) if bodies is not None else ()):
-        plotter.add_mesh(surface.to_polydata(), color="lightgrey", smooth_shading=True)
+        plotter.add_mesh(surface.to_polydata(), color="lightgrey", smooth_shading=True,
+                         split_sharp_edges=True)
     plotter.add_text(f"{pvd.stem}  t = {t:.4g} s  (step {index})", font_size=10)
     plotter.add_axes()
-    plotter.view_isometric()
-    plotter.reset_camera()
+    if view == "xz":
+        plotter.view_xz()
+        plotter.camera.elevation = 15         # a little from above, so a strip shows its width
+        plotter.enable_parallel_projection()
+    else:
+        plotter.view_isometric()
+        if bodies is not None:
+            plotter.camera.elevation = -20    # lower, to see the fabric hang over the bodies
+    if bodies is not None:                    # framed on the fabric, the bodies around it
+        plotter.reset_camera(bounds=shown.bounds)
+        plotter.camera.zoom(0.8)
+    else:
+        plotter.reset_camera()
     out = Path(out) if out else directory / f"{pvd.stem}_{field}_{index:04d}.png"
     out.parent.mkdir(parents=True, exist_ok=True)
     plotter.screenshot(str(out))
@@ -258,7 +297,8 @@ def main(argv: list[str] | None = None) -> int:
             print("fields: " + ", ".join(names))
             print(f"{len(times)} output steps, t = " + ", ".join(f"{t:.4g}" for t in times))
             return 0
-        written = [render_step(args.directory, args.field, args.step, args.out)]
+        written = [render_step(args.directory, args.field, args.step, args.out,
+                               bodies=contact_bodies(args.directory))]
         if not args.no_history:
             written.append(plot_history(args.directory))
             loop = plot_kes_loop(args.directory)

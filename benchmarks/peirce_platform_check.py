@@ -1,0 +1,57 @@
+"""The Peirce tester on its platform against the clamped cantilever: bending lengths side by side.
+
+Runs cases/peirce_platform.toml (the strip moved over the platform's edge to the 41.5° line,
+analysis "peirce_platform") and cases/cantilever.toml (the strip clamped at the edge, analysis
+"peirce"), and prints the overhang and the bending length of each and their ratio:
+
+    python benchmarks/peirce_platform_check.py --out out/peirce_check
+    python benchmarks/peirce_platform_check.py --out out/peirce_check --set mesh.nx=28
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _run(case: str, out: Path, overrides) -> dict:
+    from drape.run.runner import main as run
+
+    args = [str(ROOT / "cases" / case), "--out", str(out)]
+    for item in overrides:
+        args += ["--set", item]
+    code = run(args)
+    if code != 0:
+        raise SystemExit(f"{case}: the run ended with exit code {code}")
+    return json.loads((out / "summary.json").read_text())["analysis"]
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", default=str(ROOT / "out" / "peirce_check"), help="output folder")
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                        help="override of the platform case (repeatable), e.g. mesh.nx=28")
+    args = parser.parse_args(argv)
+    out = Path(args.out)
+    platform = _run("peirce_platform.toml", out / "platform", args.set)
+    clamped = _run("cantilever.toml", out / "clamped", [])
+    if not platform.get("reached"):
+        print(f"the platform strip never reached the line (largest chord angle "
+              f"{platform['max_chord_angle_deg']:.1f}°)")
+        return 1
+    rows = [("platform", platform["overhang_m"], platform["chord_angle_deg"] if "chord_angle_deg" in platform
+             else platform["line_deg"], platform["bending_length_peirce_m"]),
+            ("clamped", clamped["overhang_m"], clamped["chord_angle_deg"], clamped["bending_length_m"])]
+    print(f"{'':10s} {'overhang [cm]':>14s} {'chord angle':>12s} {'c, Peirce [mm]':>15s}")
+    for name, l, angle, c in rows:
+        print(f"{name:10s} {100 * l:14.3f} {angle:11.2f}° {1000 * c:15.3f}")
+    print(f"platform / clamped bending length: {platform['bending_length_peirce_m'] / clamped['bending_length_m']:.4f}"
+          f" (ASTM's c = l/2 on the platform: {1000 * platform['bending_length_m']:.3f} mm)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

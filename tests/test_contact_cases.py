@@ -1,0 +1,56 @@
+"""The contact cases: each shipped case builds, and a short run of the strip dropped onto a
+slope folds onto itself without any two of its triangles crossing, at any written step, as
+the independent intersection check (Möller's test, not the solver's distances) reads the VTU
+files."""
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from drape.analyses.intersections import intersections, self_intersections
+from drape.analyses.platform_reading import centre_line
+from drape.analyses.scan import read_scan
+from drape.case.case import load_case
+from drape.case.contact_build import body_surface
+from drape.run.output import read_pvd
+from drape.run.pictures import contact_bodies
+from drape.run.runner import main as run
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+CONTACT_CASES = ["table_drape", "sphere_drape", "drop_fold", "peirce_platform"]
+
+
+@pytest.mark.parametrize("name", CONTACT_CASES)
+def test_contact_case_builds(name):
+    out = run([str(CASES / f"{name}.toml"), "--check"])
+    assert out == 0
+
+
+def test_short_drop_folds_without_crossing_itself_or_a_body(tmp_path):
+    """Few steps on a coarse strip: it slides down the slope, its leading end stops on the mat
+    and the rest rides up onto it. Every written step is checked, fabric against itself and
+    against each body."""
+    path = CASES / "drop_fold.toml"
+    code = run([str(path), "--out", str(tmp_path), "--set", "mesh.nx=12", "--set", "mesh.ny=1",
+                "--set", "solver.dt=0.01", "--set", "solver.t_end=0.6",
+                "--set", "output.every_dt=0.01", "--set", "stop.out_of_balance=0"])
+    assert code == 0
+    case = load_case(path)
+    bodies = [body_surface(b) for b in case.contact.body]      # they stand still in this case
+    drawn = contact_bodies(tmp_path)(0.3)                      # what drape inspect draws
+    assert [len(b.triangles) for b in drawn] == [len(b.triangles) for b in bodies]
+    assert all(np.array_equal(a.vertices, b.vertices) for a, b in zip(drawn, bodies))
+    steps = read_pvd(tmp_path / "drop_fold.pvd")
+    assert len(steps) >= 50
+    for t, vtu in steps:
+        points, triangles = read_scan(vtu)
+        assert len(self_intersections(points, triangles)) == 0, f"the fabric crosses itself at t = {t}"
+        for body in bodies:
+            assert len(intersections(points, triangles, body.vertices, body.triangles)) == 0, t
+    # it did fold: along the strip its centre line turns back on itself in x
+    from meshes import rectangle
+
+    mesh = rectangle(0.3, 0.04, 12, 1)
+    reference = np.column_stack([mesh.p.T, np.zeros(mesh.p.shape[1])])
+    _, line = centre_line(mesh, points - reference)
+    assert (np.diff(line[:, 0]) < 0).any()
