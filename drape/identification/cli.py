@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import logging
 import os
 import sys
 import time
@@ -129,6 +130,13 @@ def _setup(definition: dict):
     return base, weight, case.material.kes.thickness, setup, box
 
 
+def quiet_dask() -> None:
+    """Dask's own warnings off the console (here and in the workers it starts): a cancelled
+    run at the end is expected, and the tool's errors are its one line."""
+    os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
+    logging.getLogger("distributed").setLevel(logging.ERROR)
+
+
 def _identify(args, out: Path) -> int:
     from tqdm import tqdm
 
@@ -152,6 +160,7 @@ def _identify(args, out: Path) -> int:
                         Path(definition["library"]) if definition["library"] else None,
                         definition["design"])
         search.seconds["io"] += read_s
+        quiet_dask()
         client, cluster = open_client(args.scheduler, args.workers)
         try:
             workers = max(1, len(client.scheduler_info()["workers"]))

@@ -87,6 +87,14 @@ def _check_reach(search: Search, known: list[Evaluation]) -> None:
                 f"out of the model's reach; widen --box or check the scans")
 
 
+def _is_corner(search: Search, point: dict) -> bool:
+    return any(_same(point, c, search.free) for c in design(search.box, 0))
+
+
+def _corners_known(search: Search, known: list[Evaluation]) -> bool:
+    return all(any(_same(e.point, c, search.free) for e in known) for c in design(search.box, 0))
+
+
 def _registered(surrogate: Surrogate, search: Search, evaluations) -> list[dict]:
     """Register the evaluations with a drape; return their history rows."""
     rows = []
@@ -147,6 +155,7 @@ def run_search(search: Search, forward, in_flight: int = 1, progress=None) -> di
     queue += [(None, full_point(p, free)) for p in design(search.box, search.design_size())
               if not any(_same(e.point, p, free) for e in known)
               and not any(_same(q, p, free) for _, q in queue)]
+    queue.sort(key=lambda item: not _is_corner(search, item[1]))     # the reach first
     done, index = len(own), len(own) + len(resubmit)
     if progress is not None:
         progress.reset(total=search.evaluations)
@@ -154,6 +163,8 @@ def run_search(search: Search, forward, in_flight: int = 1, progress=None) -> di
     try:
         while done < search.evaluations or forward.pending:
             while done + len(forward.pending) < search.evaluations and len(forward.pending) < in_flight:
+                if not _corners_known(search, known) and not (queue and _is_corner(search, queue[0][1])):
+                    break       # nothing else runs before the reach is known
                 if queue:
                     name, point = queue.pop(0)
                 else:
