@@ -34,8 +34,8 @@ def write_material(path, name: str, point: dict, weight: float, thickness: float
     if thickness is not None:
         data["thickness"] = thickness
     data["kes"] = kes
-    lines = [f"# {k}: identified {v['low']:.4g} .. {v['high']:.4g} (surrogate misfit within 1 "
-             f"of its minimum)" for k, v in intervals.items()]
+    lines = [f"# {k}: interval {v['low']:.4g} .. {v['high']:.4g} (identified.json says how it "
+             f"was computed)" for k, v in intervals.items()]
     if point.get("face_down") not in (None, 1.0):
         lines.append(f"# face-down asymmetry: run it with [material] face_down_ratio = "
                      f"{point['face_down']:.4g}")

@@ -21,9 +21,10 @@ __all__ = ["FINAL", "INTERVAL_RULE", "finish"]
 #: Name of the identified point's evaluation.
 FINAL = "identified"
 INTERVAL_RULE = (f"Intervals: the range of each parameter over the part of the box where the "
-                 f"Gaussian-process surrogate's mean misfit is within {WITHIN:g} of its minimum "
-                 f"(J sums squared differences in units of the scans' scatter between specimens, "
-                 f"so there a point matches the scans as well as the best, up to that scatter).")
+                 f"Gaussian-process surrogate's misfit, one posterior standard deviation on the "
+                 f"hopeful side, is within {WITHIN:g} of the minimum of its mean (J sums squared "
+                 f"differences in units of the scans' scatter between specimens, so there a "
+                 f"point may match the scans as well as the best, up to that scatter).")
 
 
 def _final_evaluation(search, found: dict, forward):
@@ -74,7 +75,8 @@ def finish(search, found: dict, forward, scans, weight: float, thickness, defini
     params = ", ".join(f"{k} {v:.3g} [{answer['intervals'][k]['low']:.3g}, "
                        f"{answer['intervals'][k]['high']:.3g}] {PARAMETERS[k].unit}"
                        for k, v in answer["point"].items())
-    result["summary_line"] = (f"identified: {params}; DC {final.drapes.dc.mean():.1f} % against "
+    warn = "" if answer["matched"] else "NOT MATCHED (best misfit over 2 sd of the scans' scatter), "
+    result["summary_line"] = (f"{warn}identified: {params}; DC {final.drapes.dc.mean():.1f} % against "
                               f"{search.target.dc.mean():.1f} %, nodes {final.drapes.nodes.tolist()}"
                               f" against {search.target.nodes.tolist()}, J = {m.J:.2f}")
     history = found["history"] + [{"name": FINAL, "point": answer["point"], **m}]

@@ -9,9 +9,12 @@ points be in flight at once (each suggested point counts as evaluated at a dummy
 its result comes). The GP models the drape's own seed scatter as noise (``alpha``).
 
 The uncertainty interval of a parameter is the range it spans over the region of the box
-where the surrogate's mean misfit is within 1 of its minimum: there the point's drapes would
-match the scans as well as the best one, up to one standard deviation of the scans' own
-scatter per descriptor (``J`` is a sum of squared standardised differences).
+where the surrogate's misfit, one posterior standard deviation on the hopeful side, is within
+1 of the minimum of its mean: there a point's drapes may match the scans as well as the best
+one, up to one standard deviation of the scans' own scatter per descriptor (``J`` is a sum of
+squared standardised differences), given what the evaluations tell. Few evaluations leave
+the surrogate unsure, and the intervals wide. Where even the best point's misfit exceeds
+``MATCHED`` (two standard deviations), the answer says it did not match the scans.
 """
 from __future__ import annotations
 
@@ -23,12 +26,14 @@ import numpy as np
 
 from drape.identification.objective import misfit_of_score, score
 
-__all__ = ["Surrogate", "design", "NOISE", "WITHIN"]
+__all__ = ["Surrogate", "design", "NOISE", "WITHIN", "MATCHED"]
 
 #: GP noise (variance, on the normalised score): the seed scatter of a point's misfit.
 NOISE = 0.05
 #: The uncertainty region: surrogate misfit within this of its minimum.
 WITHIN = 1.0
+#: Misfit up to which the identified point counts as matching the scans.
+MATCHED = 4.0
 #: Exploration weight of the upper confidence bound.
 KAPPA = 2.576
 
@@ -114,11 +119,12 @@ class Surrogate:
     def identified(self) -> dict:
         """The surrogate's best point and each parameter's interval (module docstring)."""
         points = self.sample()
-        J, _ = self.predict(points)
+        J, J_hopeful = self.predict(points)
         best = int(np.argmin(J))
-        inside = J <= J[best] + WITHIN
+        inside = J_hopeful <= J[best] + WITHIN
         out = {"point": {k: float(points[best][k]) for k in self.names},
-               "J_surrogate": float(J[best]), "intervals": {}}
+               "J_surrogate": float(J[best]), "matched": bool(J[best] <= MATCHED),
+               "intervals": {}}
         for k in self.names:
             values = np.array([p[k] for p in points])[inside]
             lo, hi = float(values.min()), float(values.max())
