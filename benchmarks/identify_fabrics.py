@@ -39,13 +39,15 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from drape.identification.cli import main as identify  # noqa: E402
+from drape.identification.objective import misfit  # noqa: E402
 from drape.identification.store import read_evaluations  # noqa: E402
 
 KEY = re.compile(r"fabric(?P<fabric>\d+)_sample(?P<sample>\d+)(?:_(?P<series>capture|obs)(?P<n>\d+))?$")
 COLUMNS = ["fabric", "train", "test", "status", "bending_length_cm", "interval_c",
            "hysteresis_per_cm", "interval_h", "train_DC", "test_DC", "test_DC_sd", "model_DC",
            "dDC", "test_nodes", "test_mode", "model_nodes", "model_mode", "DC_within_5",
-           "mode_within_1", "face_up_DC", "face_down_DC", "wall_s"]
+           "mode_within_1", "J_train", "J_test", "spectrum_test", "matched", "face_up_DC",
+           "face_down_DC", "wall_s"]
 
 
 def write_scans(npz: Path, folder: Path) -> dict:
@@ -106,8 +108,10 @@ def run_fabric(number: int, parts: dict, args, out: Path) -> dict:
 
     folder = out / f"fabric{number:02d}"
     t0 = time.perf_counter()
+    first = not (out / "library" / "evaluations.jsonl").exists()
+    budget = args.first_evaluations if first else args.evaluations
     argv = [*map(str, parts["train"]), "--base", args.case, "--out", str(folder),
-            "--evaluations", str(args.evaluations), "--seeds", str(args.seeds),
+            "--evaluations", str(budget), "--seeds", str(args.seeds),
             "--library", str(out / "library"), "--quiet"]
     argv += ["--workers", str(args.workers)] if args.workers else []
     argv += sum((["--set", s] for s in args.overrides), [])
@@ -137,6 +141,9 @@ def run_fabric(number: int, parts: dict, args, out: Path) -> dict:
                model_DC=round(float(final.dc.mean()), 2),
                dDC=round(float(final.dc.mean() - test.dc.mean()), 2),
                model_nodes=" ".join(map(str, final.nodes)), model_mode=_mode(final.nodes))
+    m = misfit(test, final)
+    row.update(J_test=round(m.J, 2), spectrum_test=round(m["spectrum"], 2),
+               J_train=round(result["misfit"]["J"], 2), matched=result["matched"])
     row["DC_within_5"] = abs(row["dDC"]) <= 5.0
     row["mode_within_1"] = abs(row["model_mode"] - row["test_mode"]) <= 1
     return row
@@ -158,19 +165,20 @@ def creep_table(fabrics: dict) -> list[str]:
 
 def markdown(rows: list[dict], creep: list[str]) -> str:
     head = ["| fabric | c (cm) [interval] | 2HB/B (1/cm) [interval] | test DC % (sd) | model DC % "
-            "| ΔDC | test nodes (mode) | model nodes (mode) | ok | face up / down DC % |",
-            "|---|---|---|---|---|---|---|---|---|---|"]
+            "| ΔDC | test nodes (mode) | model nodes (mode) | J train / test | ok | face up / down DC % |",
+            "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         fud = f"{r.get('face_up_DC', '')} / {r.get('face_down_DC', '')}" if r.get("face_down_DC") else "–"
         if r["status"] != "identified":
             head.append(f"| {r['fabric']} | {r['status']} | | {r['test_DC']} ({r['test_DC_sd']}) | "
-                        f"| | {r['test_nodes']} ({r['test_mode']}) | | no | {fud} |")
+                        f"| | {r['test_nodes']} ({r['test_mode']}) | | | no | {fud} |")
             continue
         ok = "yes" if r["DC_within_5"] and r["mode_within_1"] else "no"
         head.append(f"| {r['fabric']} | {r['bending_length_cm']} [{r['interval_c']}] | "
                     f"{r['hysteresis_per_cm']} [{r['interval_h']}] | {r['test_DC']} ({r['test_DC_sd']}) | "
                     f"{r['model_DC']} | {r['dDC']:+.1f} | {r['test_nodes']} ({r['test_mode']}) | "
-                    f"{r['model_nodes']} ({r['model_mode']}) | {ok} | {fud} |")
+                    f"{r['model_nodes']} ({r['model_mode']}) | {r['J_train']} / {r['J_test']} | "
+                    f"{ok} | {fud} |")
     n_ok = sum(1 for r in rows if r.get("DC_within_5") and r.get("mode_within_1"))
     text = "\n".join(head) + f"\n\n{n_ok} of {len(rows)} fabrics within 5 DC points and ±1 node.\n"
     if creep:
@@ -195,13 +203,30 @@ def plot(rows: list[dict], path: Path) -> None:
         matched_plot(table, path)
 
 
+def _typed(row: dict) -> dict:
+    """A fabrics.csv row with its numbers and flags read back."""
+    out = dict(row)
+    for k, v in row.items():
+        if v in ("True", "False"):
+            out[k] = v == "True"
+        elif k not in ("test_nodes", "model_nodes", "interval_c", "interval_h", "status"):
+            try:
+                out[k] = float(v) if "." in v else int(v)
+            except (TypeError, ValueError):
+                pass
+    return out
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("scans", type=Path, help="registered scans (.npz)")
     p.add_argument("--out", type=Path, default=Path("out/identify_fabrics"))
     p.add_argument("--fabrics", type=int, nargs="+", help="fabric numbers (default: all)")
-    p.add_argument("--evaluations", type=int, default=6, help="points per fabric (default 6)")
+    p.add_argument("--evaluations", type=int, default=6,
+                   help="points per fabric once the library has some (default 6)")
+    p.add_argument("--first-evaluations", type=int, default=12,
+                   help="points of the first fabric, which starts the library (default 12)")
     p.add_argument("--seeds", type=int, default=2)
     p.add_argument("--workers", type=int, default=None)
     p.add_argument("--case", default=str(ROOT / "cases" / "cusick_kes.toml"))
@@ -232,6 +257,8 @@ def main(argv=None) -> int:
         print(f"fabric {number}: {row['status']}, test DC {row['test_DC']} model "
               f"{row.get('model_DC', '-')}, nodes {row['test_mode']} / {row.get('model_mode', '-')}",
               flush=True)
+    with open(table, newline="") as fh:
+        rows = [_typed(r) for r in csv.DictReader(fh)]
     text = markdown(rows, creep_table(fabrics))
     (args.out / "identify_fabrics.md").write_text(text)
     plot(rows, args.out / "nodes_at_matched_dc.png")

@@ -16,8 +16,10 @@ from drape.identification.parameters import PARAMETERS, full_point, kes_values
 from drape.identification.store import append_evaluation, read_evaluations
 from drape.identification.surrogate import WITHIN
 
-__all__ = ["FINAL", "INTERVAL_RULE", "finish"]
+__all__ = ["FINAL", "INTERVAL_RULE", "MATCHED_Z", "finish"]
 
+#: |z_DC| up to which the identified point's drapes count as matching the scans' DC.
+MATCHED_Z = 2.0
 #: Name of the identified point's evaluation.
 FINAL = "identified"
 INTERVAL_RULE = (f"Intervals: the range of each parameter over the part of the box where the "
@@ -75,7 +77,9 @@ def finish(search, found: dict, forward, scans, weight: float, thickness, defini
     params = ", ".join(f"{k} {v:.3g} [{answer['intervals'][k]['low']:.3g}, "
                        f"{answer['intervals'][k]['high']:.3g}] {PARAMETERS[k].unit}"
                        for k, v in answer["point"].items())
-    warn = "" if answer["matched"] else "NOT MATCHED (best misfit over 2 sd of the scans' scatter), "
+    result["matched"] = bool(abs(m["z_DC"]) <= MATCHED_Z)
+    warn = "" if result["matched"] else (f"NOT MATCHED (the identified point's DC is over "
+                                         f"{MATCHED_Z:g} sd of the scans' scatter off), ")
     result["summary_line"] = (f"{warn}identified: {params}; DC {final.drapes.dc.mean():.1f} % against "
                               f"{search.target.dc.mean():.1f} %, nodes {final.drapes.nodes.tolist()}"
                               f" against {search.target.nodes.tolist()}, J = {m.J:.2f}")

@@ -147,9 +147,9 @@ def write_report(out: Path, result: dict, scans, simulated, history, surrogate=N
         f"{s['DC_mean_percent']:.1f} ± {s['DC_std_percent']:.1f} %, nodes {s['nodes_histogram']}."
         f" Misfit J = {result['misfit']['J']:.2f} (z_DC {result['misfit']['z_DC']:.2f}, z_nodes "
         f"{result['misfit']['z_nodes']:.2f}, spectrum {result['misfit']['spectrum']:.2f}).</p>",
-        "" if result["surrogate"]["matched"] else
-        "<p><b>Not matched:</b> even the best point's misfit is over two standard deviations of "
-        "the scans' scatter; the parameters below are the nearest the model came.</p>",
+        "" if result["matched"] else
+        "<p><b>Not matched:</b> the identified point's DC is over two standard deviations of "
+        "the scans' scatter off theirs; the parameters below are the nearest the model came.</p>",
         _table(result),
         f"<p>Material file <code>{html.escape(result['material_file'])}</code> (at W = "
         f"{result['weight_mg_per_cm2']:g} mg/cm²): {kes}.</p>",

@@ -2,7 +2,7 @@
 
 The optimiser (Nogueira, *Bayesian Optimization: open source constrained global optimization
 tool for Python*, 2014–; scikit-learn's GP with a Matérn 5/2 kernel) works in log10 of the
-parameters and maximises ``-√J`` (:func:`drape.identification.objective.score`). Its
+parameters mapped to [0, 1] over the box and maximises ``-√J`` (:func:`drape.identification.objective.score`). Its
 ask–tell interface keeps the loop here: :meth:`Surrogate.suggest` gives the next point,
 :meth:`Surrogate.register` adds a finished one, and the constant-liar acquisition lets several
 points be in flight at once (each suggested point counts as evaluated at a dummy value until
@@ -13,8 +13,7 @@ where the surrogate's misfit, one posterior standard deviation on the hopeful si
 1 of the minimum of its mean: there a point's drapes may match the scans as well as the best
 one, up to one standard deviation of the scans' own scatter per descriptor (``J`` is a sum of
 squared standardised differences), given what the evaluations tell. Few evaluations leave
-the surrogate unsure, and the intervals wide. Where even the best point's misfit exceeds
-``MATCHED`` (two standard deviations), the answer says it did not match the scans.
+the surrogate unsure, and the intervals wide.
 """
 from __future__ import annotations
 
@@ -26,20 +25,20 @@ import numpy as np
 
 from drape.identification.objective import misfit_of_score, score
 
-__all__ = ["Surrogate", "design", "NOISE", "WITHIN", "MATCHED"]
+__all__ = ["Surrogate", "design", "NOISE", "WITHIN"]
 
 #: GP noise (variance, on the normalised score): the seed scatter of a point's misfit.
 NOISE = 0.05
 #: The uncertainty region: surrogate misfit within this of its minimum.
 WITHIN = 1.0
-#: Misfit up to which the identified point counts as matching the scans.
-MATCHED = 4.0
+#: Bounds of the GP's length scales, in units of the box's width (log scale).
+LENGTH_SCALES = (0.1, 10.0)
 #: Exploration weight of the upper confidence bound.
 KAPPA = 2.576
 
 
 def _key(name: str) -> str:
-    return f"log10_{name}"
+    return f"u_{name}"
 
 
 def design(box: dict, n: int, seed: int = 0) -> list[dict]:
@@ -66,21 +65,30 @@ class Surrogate:
 
     def __init__(self, box: dict, random_state: int = 0):
         from bayes_opt import BayesianOptimization, acquisition
+        from sklearn.gaussian_process.kernels import Matern
 
         self.box = dict(box)
         self.names = list(box)
-        bounds = {_key(k): (math.log10(lo), math.log10(hi)) for k, (lo, hi) in box.items()}
+        bounds = {_key(k): (0.0, 1.0) for k in box}       # log10 of the box mapped to [0, 1]
         acq = acquisition.ConstantLiar(
             acquisition.UpperConfidenceBound(kappa=KAPPA, random_state=random_state),
             random_state=random_state)
         self.bo = BayesianOptimization(f=None, pbounds=bounds, acquisition_function=acq,
                                        random_state=random_state, verbose=0,
                                        allow_duplicate_points=True)
-        self.bo.set_gp_params(alpha=NOISE, normalize_y=True)
+        # length scales from a tenth of the box up: a few evaluations must not let the fit
+        # pick a scale so short that the surrogate knows nothing between them
+        self.bo.set_gp_params(alpha=NOISE, normalize_y=True, kernel=Matern(
+            length_scale=[0.3] * len(box), length_scale_bounds=LENGTH_SCALES, nu=2.5))
         self.count = 0
 
     def _params(self, point: dict) -> dict:
-        return {_key(k): math.log10(point[k]) for k in self.names}
+        return {_key(k): (math.log10(point[k] / lo)) / math.log10(hi / lo)
+                for k, (lo, hi) in self.box.items()}
+
+    def _point(self, params: dict) -> dict:
+        return {k: float(f"{lo * (hi / lo) ** float(params[_key(k)]):.6g}")
+                for k, (lo, hi) in self.box.items()}
 
     def register(self, point: dict, J: float) -> None:
         """Add an evaluated point (its misfit J)."""
@@ -92,8 +100,7 @@ class Surrogate:
 
     def suggest(self) -> dict:
         """The next point to evaluate (values, not logs)."""
-        params = self.bo.suggest()
-        return {k: float(f"{10 ** float(params[_key(k)]):.6g}") for k in self.names}
+        return self._point(self.bo.suggest())
 
     def predict(self, points: list[dict]) -> tuple[np.ndarray, np.ndarray]:
         """Surrogate misfit at ``points``: its posterior mean J and the J one standard
@@ -123,8 +130,7 @@ class Surrogate:
         best = int(np.argmin(J))
         inside = J_hopeful <= J[best] + WITHIN
         out = {"point": {k: float(points[best][k]) for k in self.names},
-               "J_surrogate": float(J[best]), "matched": bool(J[best] <= MATCHED),
-               "intervals": {}}
+               "J_surrogate": float(J[best]), "intervals": {}}
         for k in self.names:
             values = np.array([p[k] for p in points])[inside]
             lo, hi = float(values.min()), float(values.max())
