@@ -134,7 +134,11 @@ def quiet_dask() -> None:
     """Dask's own warnings off the console (here and in the workers it starts): a cancelled
     run at the end is expected, and the tool's errors are its one line."""
     os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
-    logging.getLogger("distributed").setLevel(logging.ERROR)
+    import distributed  # noqa: F401  (its loggers exist once it is imported)
+
+    for name in ["distributed", *logging.root.manager.loggerDict]:
+        if name.startswith("distributed"):
+            logging.getLogger(name).setLevel(logging.ERROR)
 
 
 def _identify(args, out: Path) -> int:
