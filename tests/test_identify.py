@@ -137,6 +137,24 @@ def test_material_file_loads_and_gives_the_identified_ratios(tmp_path):
     assert c == pytest.approx(0.02, rel=2e-3)
 
 
+def test_material_file_outside_the_kes_range_gives_the_laws_of_the_run(tmp_path):
+    """c = 0.6 cm at 12.5 mg/cm²: B below a KES sheet's range; the file carries the run's laws
+    (face-down ratio included) and loads with the same bending length and asymmetry."""
+    from constitutive.material import load_material
+    from constitutive.units import G0
+    from drape.case.build import build_material
+    from drape.case.case import load_case
+    from drape.identification.material_file import write_material
+
+    point = full_point({"bending_length": 0.6, "face_down": 1.3}, ["bending_length", "face_down"])
+    built = build_material(load_case(CASE, overrides(point, 12.5)))
+    path = write_material(tmp_path / "m.toml", "x", point, 12.5, None, {}, 2, built=built)
+    m = load_material(path)
+    assert "[warp]" in path.read_text() and m.warp.k1_neg == pytest.approx(1.3 * m.warp.k1, rel=1e-5)
+    B = m.simulated_kes()["warp"].B_pos             # face up: the law's k1 side
+    assert (B / (m.areal_mass * G0)) ** (1 / 3) == pytest.approx(0.006, rel=2e-3)
+
+
 @pytest.mark.parametrize("argv, words", [
     (["--out", "x"], "--base CASE is required"),
     (["s.ply", "--base", str(ROOT / "cases" / "cusick_fabric1.toml"), "--out", "x"], "no such file"),

@@ -58,7 +58,8 @@ def finish(search, found: dict, forward, scans, weight: float, thickness, defini
     point = final.point
     m = misfit(search.target, final.drapes)
     material = write_material(search.out / "material.toml", "identified", point, weight,
-                              thickness, answer["intervals"], len(search.target))
+                              thickness, answer["intervals"], len(search.target),
+                              built=_built(definition, point, weight))
     forward_cpu = sum(e.wall_time_s for e in read_evaluations(search.out))
     result = {
         "parameters": answer["point"], "intervals": answer["intervals"],
@@ -92,6 +93,16 @@ def finish(search, found: dict, forward, scans, weight: float, thickness, defini
                          "forward_runs_worker_total": result["seconds"]["forward_runs_worker_total"]}
     (search.out / "identified.json").write_text(json.dumps(result, indent=1))
     return result
+
+
+def _built(definition: dict, point: dict, weight: float):
+    """The material a run of ``point`` builds (SI)."""
+    from drape.case.build import build_material
+    from drape.case.case import load_case
+    from drape.identification.parameters import overrides
+
+    items = list(definition["set"]) + [f"material.kes.weight={weight:g}"] + overrides(point, weight)
+    return build_material(load_case(definition["base"], items))
 
 
 def _refit(search, found: dict):
