@@ -57,7 +57,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--seeds", type=int, default=2, metavar="N",
                    help="perturbation seeds per point (default 2)")
     p.add_argument("--evaluations", type=int, default=14, metavar="N",
-                   help="points run in DIR besides the final one (default 14)")
+                   help="points run in DIR besides the final one (default 14; a resumed "
+                        "identification may be given more)")
     p.add_argument("--design", type=int, default=None, metavar="N",
                    help="Latin-hypercube points after the two corners (default 2 per parameter)")
     p.add_argument("--library", metavar="LIB", help="folder of earlier forward runs in the same "
@@ -98,8 +99,10 @@ def _definition(args, out: Path) -> dict:
     if stored.exists():
         if not args.resume:
             raise ValueError(f"{stored} exists: continue it with --resume, or use a new --out")
-        if json.loads(stored.read_text()) != definition:
-            raise ValueError(f"--resume: {stored} defines another identification; use a new --out")
+        before = json.loads(stored.read_text())
+        if {**before, "evaluations": None} != {**definition, "evaluations": None}:
+            raise ValueError(f"--resume: {stored} defines another identification (only "
+                             f"--evaluations may change); use a new --out")
     return definition
 
 
