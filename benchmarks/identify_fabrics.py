@@ -132,7 +132,7 @@ def run_fabric(number: int, parts: dict, args, out: Path) -> dict:
     if code != 0:
         return {**row, "status": {5: "out of reach"}.get(code, f"exit {code}")}
     result = json.loads((folder / "identified.json").read_text())
-    final = [e for e in read_evaluations(folder) if e.name == "identified"][-1].drapes
+    final = [e for e in read_evaluations(folder) if e.name.startswith("identified")][-1].drapes
     c, h = result["parameters"]["bending_length"], result["parameters"]["hysteresis"]
     iv = result["intervals"]
     row.update(status="identified", bending_length_cm=round(c, 3), hysteresis_per_cm=round(h, 3),

@@ -32,11 +32,13 @@ INTERVAL_RULE = (f"Intervals: the range of each parameter over the part of the b
 def _final_evaluation(search, found: dict, forward):
     """The identified point's evaluation: stored already (a resumed identification) or run."""
     point = full_point(found["answer"]["point"], search.free)
-    for e in found["evaluations"]:
-        if e.name == FINAL and e.setup == search.setup and e.point == point:
+    finals = [e for e in read_evaluations(search.out) if e.name.startswith(FINAL)]
+    for e in finals:
+        if e.setup == search.setup and e.point == point:
             return e
     t0 = time.perf_counter()
-    forward.submit(FINAL, point)
+    # a resumed identification given more evaluations may end at another point: its own folder
+    forward.submit(FINAL if not finals else f"{FINAL}-{len(finals)}", point)
     evaluation = forward.next_finished()
     search.seconds["forward_wait"] += time.perf_counter() - t0
     append_evaluation(search.out, evaluation)

@@ -156,7 +156,8 @@ def run_search(search: Search, forward, in_flight: int = 1, progress=None) -> di
               if not any(_same(e.point, p, free) for e in known)
               and not any(_same(q, p, free) for _, q in queue)]
     queue.sort(key=lambda item: not _is_corner(search, item[1]))     # the reach first
-    done, index = len(own), len(own) + len(resubmit)
+    done = sum(1 for e in own if not e.name.startswith("identified"))   # the final ones aside
+    index = len(own) + len(resubmit)
     if progress is not None:
         progress.reset(total=search.evaluations)
         progress.update(done)
