@@ -101,14 +101,13 @@ def _mode(nodes) -> int:
     return min(counts, key=lambda k: (-counts[k], abs(k - middle), k))
 
 
-def run_fabric(number: int, parts: dict, args, out: Path) -> dict:
+def run_fabric(number: int, parts: dict, args, out: Path, first: bool) -> dict:
     """Identify one fabric from its training scans; compare with its test scans."""
     import json
     import time
 
     folder = out / f"fabric{number:02d}"
     t0 = time.perf_counter()
-    first = not (out / "library" / "evaluations.jsonl").exists()
     budget = args.first_evaluations if first else args.evaluations
     argv = [*map(str, parts["train"]), "--base", args.case, "--out", str(folder),
             "--evaluations", str(budget), "--seeds", str(args.seeds),
@@ -246,7 +245,7 @@ def main(argv=None) -> int:
     for number, parts in fabrics.items():
         if number in done:
             continue
-        row = run_fabric(number, parts, args, args.out)
+        row = run_fabric(number, parts, args, args.out, first=number == min(fabrics))
         rows.append(row)
         new = not table.exists()
         with open(table, "a", newline="") as fh:

@@ -1,8 +1,8 @@
 """What an identification leaves in DIR: the identified point run once more, ``identified.json``,
 ``material.toml`` and ``report.html``.
 
-The identified point is the surrogate's minimum (not the best evaluation, whose misfit carries
-its seeds' luck); it is run under the same seeds as every point, and its drapes are the
+The identified point is the surrogate's (:meth:`drape.identification.surrogate.Surrogate.identified`;
+not the best evaluation, whose misfit carries its seeds' luck); it is run under the same seeds as every point, and its drapes are the
 simulated ones the report sets beside the scans and the prediction a validation compares.
 """
 from __future__ import annotations
@@ -24,7 +24,7 @@ MATCHED_Z = 2.0
 FINAL = "identified"
 INTERVAL_RULE = (f"Intervals: the range of each parameter over the part of the box where the "
                  f"Gaussian-process surrogate's misfit, one posterior standard deviation on the "
-                 f"hopeful side, is within {WITHIN:g} of the minimum of its mean (J sums squared "
+                 f"hopeful side, is within {WITHIN:g} of its mean at the identified point (J sums squared "
                  f"differences in units of the scans' scatter between specimens, so there a "
                  f"point may match the scans as well as the best, up to that scatter).")
 

@@ -8,9 +8,11 @@ ask–tell interface keeps the loop here: :meth:`Surrogate.suggest` gives the ne
 points be in flight at once (each suggested point counts as evaluated at a dummy value until
 its result comes). The GP models the drape's own seed scatter as noise (``alpha``).
 
-The uncertainty interval of a parameter is the range it spans over the region of the box
+The identified point maximises the surrogate's score less one posterior standard deviation (a
+cautious choice: few evaluations leave it by the best of them rather than in a corner the
+surrogate knows nothing of). The uncertainty interval of a parameter is the range it spans over the region of the box
 where the surrogate's misfit, one posterior standard deviation on the hopeful side, is within
-1 of the minimum of its mean: there a point's drapes may match the scans as well as the best
+1 of its mean misfit at the identified point: there a point's drapes may match the scans as well as the best
 one, up to one standard deviation of the scans' own scatter per descriptor (``J`` is a sum of
 squared standardised differences), given what the evaluations tell. Few evaluations leave
 the surrogate unsure, and the intervals wide.
@@ -126,8 +128,12 @@ class Surrogate:
     def identified(self) -> dict:
         """The surrogate's best point and each parameter's interval (module docstring)."""
         points = self.sample()
-        J, J_hopeful = self.predict(points)
-        best = int(np.argmin(J))
+        mean, std = self.bo.predict([self._params(p) for p in points], return_std=True)
+        J, J_hopeful = misfit_of_score(mean), misfit_of_score(mean + std)
+        # the answer is where the surrogate is best one standard deviation on the cautious
+        # side: with few evaluations that stays by the best of them, not in a corner the
+        # surrogate knows nothing of; with many it is the minimum of the mean
+        best = int(np.argmin(misfit_of_score(mean - std)))
         inside = J_hopeful <= J[best] + WITHIN
         out = {"point": {k: float(points[best][k]) for k in self.names},
                "J_surrogate": float(J[best]), "intervals": {}}
