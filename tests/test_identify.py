@@ -3,9 +3,11 @@
 The identifiability test makes "scans" with the model itself at a known bending length under
 perturbation seeds the identification does not use (the runs' last VTU files, read like
 scans), stops the identification with SIGTERM after its first evaluation, resumes it, and
-requires the bending length back within 10 %. Why 10 %: on this mesh the drape coefficient
-moves about 45 points per unit of ln c and the seed scatter of one drape is about 1.5 points,
-so one seed pins ln c to about 3 %; 10 % is three of those.
+requires the bending length back within 15 %. Why 15 %: on this mesh the drape coefficient
+moves about 46 points per unit of ln c (49 % at c = 1.2 cm, 67 % at 1.77 cm) and one drape's
+seed scatter is up to 2 points; with one seed per point against the mean of two specimens,
+the seed scatter alone leaves ln c uncertain by √(2² + 2²/2)/46 ≈ 5 %, and 15 % is three of
+those.
 """
 from __future__ import annotations
 
@@ -191,7 +193,7 @@ def identify_command(scans, out: Path, *extra) -> list[str]:
 def test_the_models_own_drapes_are_identified_back_after_a_kill(
         model_scans, tmp_path, terminate_after_first_row):
     """Identifiability and --resume: SIGTERM once one evaluation is stored, resume, and the
-    bending length comes back within 10 % (module docstring), inside its interval."""
+    bending length comes back within 15 % (module docstring), inside its interval."""
     out = tmp_path / "id"
     code, err = terminate_after_first_row(identify_command(model_scans, out),
                                           out / "evaluations.csv", ROOT, env_with_worktree())
@@ -207,7 +209,7 @@ def test_the_models_own_drapes_are_identified_back_after_a_kill(
     assert len([e for e in after if not e.name.startswith("identified")]) == 6
     result = json.loads((out / "identified.json").read_text())
     c = result["parameters"]["bending_length"]
-    assert c == pytest.approx(TRUE_C, rel=0.10)
+    assert c == pytest.approx(TRUE_C, rel=0.15)
     iv = result["intervals"]["bending_length"]
     assert iv["low"] <= c <= iv["high"]
     from constitutive.material import load_material
