@@ -32,6 +32,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "inspect": ("drape.run.pictures", "pictures of a finished run (python -m drape.inspect)"),
     "measure": ("drape.analyses.scan_measure", "a scanned drape measured like a simulated one "
                                                 "(python -m drape.measure)"),
+    "identify": ("drape.identification.cli", "the bending law from scanned drapes "
+                                              "(python -m drape.identify)"),
     "fit": ("constitutive.fit.cli", "fit the bending law to KES-FB loops (python -m constitutive.fit)"),
 }
 

@@ -59,7 +59,7 @@ from drape.run.cli import describe, one_line
 from drape.run.lock import folder_lock
 from drape.run.runner import ResumeError, read_summary, run_case
 
-__all__ = ['SINGLE_THREADED', 'run_row', 'run_sweep']
+__all__ = ['SINGLE_THREADED', 'open_client', 'run_row', 'run_sweep']
 
 
 
@@ -250,6 +250,14 @@ def _client(scheduler: str | None, workers: int | None, dashboard: bool = False)
                            host="127.0.0.1", dashboard_address="127.0.0.1:0",
                            scheduler_kwargs={"dashboard": dashboard}, env=dict(SINGLE_THREADED))
     return Client(cluster), cluster
+
+
+def open_client(scheduler: str | None = None, workers: int | None = None):
+    """``(client, cluster)``: a Dask client of ``scheduler`` (or DASK_SCHEDULER_ADDRESS), else
+    of a local cluster of ``workers`` single-threaded processes (``cluster`` is then the
+    :class:`distributed.LocalCluster` to close after the client; None otherwise), for tools
+    that submit :func:`run_row` tasks themselves."""
+    return _client(scheduler, workers)
 
 
 def _reachable(address: str) -> None:

@@ -6,6 +6,7 @@ after the case's overrides) raises :class:`RunInputError` naming the key.
 """
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 from dataclasses import dataclass
@@ -25,7 +26,7 @@ from drape.solvers.linear import DirectSolver
 from drape.solvers.newton import NewtonPolicy
 
 __all__ = ["RunInputError", "Parts", "build", "build_mesh", "build_material", "build_model",
-           "rayleigh_coefficients", "fold_perturbation", "initial_fields"]
+           "face_down", "rayleigh_coefficients", "fold_perturbation", "initial_fields"]
 
 log = logging.getLogger("drape.case.build")
 
@@ -121,6 +122,12 @@ def _make_mesh(spec):
         raise RunInputError(f"mesh.path = {spec.path!r}: {err}") from None
 
 
+def face_down(law, ratio: float):
+    """``law`` with face-down (κ < 0) rigidities ``ratio`` times its face-up ones."""
+    return dataclasses.replace(law, k1_neg=ratio * law.k1,
+                               k3_neg=ratio * law.k3 if law.k3 else None)
+
+
 def build_material(case: Case):
     """The fabric of ``[material]`` with the case's overrides applied (SI)."""
     spec = case.material
@@ -139,6 +146,9 @@ def build_material(case: Case):
             thickness=spec.thickness, twist_rigidity=case.model.twist_rigidity, **membrane)
     except MaterialError as err:
         raise RunInputError(str(err)) from None
+    if spec.face_down_ratio != 1.0:
+        material = material.replace(warp=face_down(material.warp, spec.face_down_ratio),
+                                    weft=face_down(material.weft, spec.face_down_ratio))
     tension = membrane_tension(case, material)
     try:
         return material if tension is None else material.at_tension(tension)

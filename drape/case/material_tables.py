@@ -62,6 +62,10 @@ class CaseMaterial(LawOverride):
     bending_scale: float = Field(1.0, gt=0)
     """Multiplies every bending moment of both laws (k1, k3, d, m, f1, f2; not ε_f, η), after the
     overrides: the same fabric made stiffer or limper (bending length × bending_scale^(1/3))."""
+    face_down_ratio: float = Field(1.0, gt=0)
+    """Face-up/face-down asymmetry: the face-down (κ < 0) rigidities of both laws are this
+    times the face-up ones (k1_neg = ratio · k1, k3_neg = ratio · k3); 1 is symmetric. Turning
+    a specimen over is the reciprocal ratio at the scaled rigidity."""
     warp: LawOverride = LawOverride()
     """Overrides of the warp law (acts on κ_xx)."""
     weft: LawOverride = LawOverride()

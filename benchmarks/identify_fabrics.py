@@ -1,0 +1,269 @@
+"""Validation of ``drape identify`` on real fabrics: identify from some specimens, predict the others.
+
+    python benchmarks/identify_fabrics.py SCANS.npz --out DIR [--fabrics 1 2 ...]
+        [--evaluations 6] [--seeds 2] [--workers 2] [--set KEY=VALUE ...]
+
+``SCANS.npz``: registered scans of real Cusick drapes in the format ``scan_descriptors.py``
+reads (keys ``fabricNN_sampleSS_captureC``, ``fabricNN_sampleSS``, ``fabricNN_sampleSS_obsK``,
+``vertex_unit_m``), e.g. the Leeds Cusick drape dataset (D. Gong, N. Mao, H. Wang, "Bayesian
+Differentiable Physics for Cloth Digitalization", CVPR 2024); the scans are external data.
+
+For each fabric, the face-up scans (captures 1–2, or the single capture) of its odd samples are
+the training set: ``drape identify`` finds the bending length and 2HB/B from them
+(``cases/cusick_kes.toml``; all fabrics share one growing ``--library`` of forward runs,
+``DIR/library``). The identified point's simulated drapes then predict the even samples'
+face-up scans: mean DC within 5 points and the most frequent node count within ±1 (the
+target), beside the measured spread between those specimens. The script also reports, from the
+scans alone, face up against face down (captures 1–2 against 3–4; the identified law is
+symmetric unless ``--set material.face_down_ratio=...``, so it predicts no difference) and the
+creep series (``obsK``: the fall of DC at a fixed node count).
+
+Writes, one row per fabric as soon as it is done: ``DIR/fabrics.csv``; at the end
+``DIR/identify_fabrics.md`` and ``DIR/nodes_at_matched_dc.png`` (the plot of
+``nodes_at_matched_dc.py``, here with the identified fabrics).
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+import re
+import sys
+from collections import Counter, defaultdict
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from drape.identification.cli import main as identify  # noqa: E402
+from drape.identification.objective import misfit  # noqa: E402
+from drape.identification.store import read_evaluations  # noqa: E402
+
+KEY = re.compile(r"fabric(?P<fabric>\d+)_sample(?P<sample>\d+)(?:_(?P<series>capture|obs)(?P<n>\d+))?$")
+COLUMNS = ["fabric", "train", "test", "status", "bending_length_cm", "interval_c",
+           "hysteresis_per_cm", "interval_h", "train_DC", "test_DC", "test_DC_sd", "model_DC",
+           "dDC", "test_nodes", "test_mode", "model_nodes", "model_mode", "DC_within_5",
+           "mode_within_1", "J_train", "J_test", "spectrum_test", "matched", "face_up_DC",
+           "face_down_DC", "wall_s"]
+
+
+def write_scans(npz: Path, folder: Path) -> dict:
+    """Every scan of the file as a PLY in ``folder``; ``{key: path}``."""
+    import meshio
+
+    data = np.load(npz)
+    unit = float(data["vertex_unit_m"])
+    folder.mkdir(parents=True, exist_ok=True)
+    out = {}
+    for name in data.files:
+        if not name.endswith("/vertices"):
+            continue
+        key = name[: -len("/vertices")]
+        path = folder / f"{key}.ply"
+        if not path.exists():
+            meshio.write(path, meshio.Mesh(data[name] * unit,
+                                           [("triangle", data[f"{key}/faces"].astype(np.int32))]))
+        out[key] = path
+    return out
+
+
+def split(scans: dict) -> dict:
+    """Per fabric: training (odd samples, face up), test (even samples, face up), face down,
+    creep series."""
+    fabrics = defaultdict(lambda: {"train": [], "test": [], "down": [], "creep": []})
+    for key, path in sorted(scans.items()):
+        m = KEY.match(key)
+        if not m:
+            continue
+        f = fabrics[int(m["fabric"])]
+        if m["series"] == "obs":
+            f["creep"].append((int(m["sample"]), int(m["n"]), path))
+            continue
+        if m["series"] == "capture" and int(m["n"]) > 2:
+            f["down"].append(path)
+            continue
+        f["train" if int(m["sample"]) % 2 else "test"].append(path)
+    return dict(sorted(fabrics.items()))
+
+
+def _measure(paths):
+    from drape.identification.target import scan_drapes
+
+    return scan_drapes(paths)[0]
+
+
+def _mode(nodes) -> int:
+    counts = Counter(int(n) for n in nodes)
+    middle = float(np.median(nodes))
+    return min(counts, key=lambda k: (-counts[k], abs(k - middle), k))
+
+
+def run_fabric(number: int, parts: dict, args, out: Path, first: bool) -> dict:
+    """Identify one fabric from its training scans; compare with its test scans."""
+    import json
+    import time
+
+    folder = out / f"fabric{number:02d}"
+    t0 = time.perf_counter()
+    budget = args.first_evaluations if first else args.evaluations
+    argv = [*map(str, parts["train"]), "--base", args.case, "--out", str(folder),
+            "--evaluations", str(budget), "--seeds", str(args.seeds),
+            "--library", str(out / "library"), "--quiet"]
+    argv += ["--workers", str(args.workers)] if args.workers else []
+    argv += sum((["--set", s] for s in args.overrides), [])
+    if (folder / "identify.json").exists():
+        argv.append("--resume")
+    code = identify(argv)
+    if code in (130, 143):              # stopped: the next call continues it (--resume)
+        raise KeyboardInterrupt
+    train, test = _measure(parts["train"]), _measure(parts["test"])
+    row = {"fabric": number, "train": len(train), "test": len(test),
+           "train_DC": round(float(train.dc.mean()), 2), "test_DC": round(float(test.dc.mean()), 2),
+           "test_DC_sd": round(test.dc_std(), 2), "test_nodes": " ".join(map(str, test.nodes)),
+           "test_mode": test.nodes_mode(), "wall_s": round(time.perf_counter() - t0, 1)}
+    if parts["down"]:
+        up = np.concatenate([train.dc, test.dc])
+        row.update(face_up_DC=round(float(up.mean()), 2),
+                   face_down_DC=round(float(_measure(parts["down"]).dc.mean()), 2))
+    if code != 0:
+        return {**row, "status": {5: "out of reach"}.get(code, f"exit {code}")}
+    result = json.loads((folder / "identified.json").read_text())
+    final = [e for e in read_evaluations(folder) if e.name.startswith("identified")][-1].drapes
+    c, h = result["parameters"]["bending_length"], result["parameters"]["hysteresis"]
+    iv = result["intervals"]
+    row.update(status="identified", bending_length_cm=round(c, 3), hysteresis_per_cm=round(h, 3),
+               interval_c=f"{iv['bending_length']['low']:.3g}-{iv['bending_length']['high']:.3g}",
+               interval_h=f"{iv['hysteresis']['low']:.3g}-{iv['hysteresis']['high']:.3g}",
+               model_DC=round(float(final.dc.mean()), 2),
+               dDC=round(float(final.dc.mean() - test.dc.mean()), 2),
+               model_nodes=" ".join(map(str, final.nodes)), model_mode=_mode(final.nodes))
+    m = misfit(test, final)
+    row.update(J_test=round(m.J, 2), spectrum_test=round(m["spectrum"], 2),
+               J_train=round(result["misfit"]["J"], 2), matched=result["matched"])
+    row["DC_within_5"] = abs(row["dDC"]) <= 5.0
+    row["mode_within_1"] = abs(row["model_mode"] - row["test_mode"]) <= 1
+    return row
+
+
+def creep_table(fabrics: dict) -> list[str]:
+    """The creep series from the scans: DC and nodes per observation."""
+    lines = []
+    for number, parts in fabrics.items():
+        by_obs = defaultdict(list)
+        for _, n, path in parts["creep"]:
+            by_obs[n].append(path)
+        for n in sorted(by_obs):
+            d = _measure(by_obs[n])
+            lines.append(f"| {number} | {n} | {d.dc.mean():.1f} ± {d.dc_std():.1f} | "
+                         f"{' '.join(map(str, d.nodes))} |")
+    return lines
+
+
+def markdown(rows: list[dict], creep: list[str]) -> str:
+    head = ["| fabric | c (cm) [interval] | 2HB/B (1/cm) [interval] | test DC % (sd) | model DC % "
+            "| ΔDC | test nodes (mode) | model nodes (mode) | J train / test | ok | face up / down DC % |",
+            "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        fud = f"{r.get('face_up_DC', '')} / {r.get('face_down_DC', '')}" if r.get("face_down_DC") else "–"
+        if r["status"] != "identified":
+            head.append(f"| {r['fabric']} | {r['status']} | | {r['test_DC']} ({r['test_DC_sd']}) | "
+                        f"| | {r['test_nodes']} ({r['test_mode']}) | | | no | {fud} |")
+            continue
+        ok = "yes" if r["DC_within_5"] and r["mode_within_1"] else "no"
+        head.append(f"| {r['fabric']} | {r['bending_length_cm']} [{r['interval_c']}] | "
+                    f"{r['hysteresis_per_cm']} [{r['interval_h']}] | {r['test_DC']} ({r['test_DC_sd']}) | "
+                    f"{r['model_DC']} | {r['dDC']:+.1f} | {r['test_nodes']} ({r['test_mode']}) | "
+                    f"{r['model_nodes']} ({r['model_mode']}) | {r['J_train']} / {r['J_test']} | "
+                    f"{ok} | {fud} |")
+    n_ok = sum(1 for r in rows if r.get("DC_within_5") and r.get("mode_within_1"))
+    text = "\n".join(head) + f"\n\n{n_ok} of {len(rows)} fabrics within 5 DC points and ±1 node.\n"
+    if creep:
+        text += ("\nCreep series (scans): | fabric | observation | DC % | nodes |\n|---|---|---|---|\n"
+                 + "\n".join(creep) + "\n")
+    return text
+
+
+def plot(rows: list[dict], path: Path) -> None:
+    """Node count against DC (the plot of nodes_at_matched_dc.py): measured test ranges, model."""
+    from nodes_at_matched_dc import plot as matched_plot
+
+    table = []
+    for r in rows:
+        if r["status"] != "identified":
+            continue
+        nodes = list(map(int, r["test_nodes"].split()))
+        table.append({"law": "tensor", "measured_DC": r["test_DC"], "measured_nodes_min": min(nodes),
+                      "measured_nodes_max": max(nodes), "model_DC": r["model_DC"],
+                      "model_nodes": r["model_nodes"]})
+    if table:
+        matched_plot(table, path)
+
+
+def _typed(row: dict) -> dict:
+    """A fabrics.csv row with its numbers and flags read back."""
+    out = dict(row)
+    for k, v in row.items():
+        if v in ("True", "False"):
+            out[k] = v == "True"
+        elif k not in ("test_nodes", "model_nodes", "interval_c", "interval_h", "status"):
+            try:
+                out[k] = float(v) if "." in v else int(v)
+            except (TypeError, ValueError):
+                pass
+    return out
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("scans", type=Path, help="registered scans (.npz)")
+    p.add_argument("--out", type=Path, default=Path("out/identify_fabrics"))
+    p.add_argument("--fabrics", type=int, nargs="+", help="fabric numbers (default: all)")
+    p.add_argument("--evaluations", type=int, default=6,
+                   help="points per fabric once the library has some (default 6)")
+    p.add_argument("--first-evaluations", type=int, default=12,
+                   help="points of the first fabric, which starts the library (default 12)")
+    p.add_argument("--seeds", type=int, default=2)
+    p.add_argument("--workers", type=int, default=None)
+    p.add_argument("--case", default=str(ROOT / "cases" / "cusick_kes.toml"))
+    p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE")
+    args = p.parse_args(argv)
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    args.out.mkdir(parents=True, exist_ok=True)
+    fabrics = split(write_scans(args.scans, args.out / "scans"))
+    if args.fabrics:
+        fabrics = {k: v for k, v in fabrics.items() if k in args.fabrics}
+    table = args.out / "fabrics.csv"
+    done = {}
+    if table.exists():
+        with open(table, newline="") as fh:
+            done = {int(r["fabric"]): r for r in csv.DictReader(fh)}
+    rows = []
+    for number, parts in fabrics.items():
+        if number in done:
+            continue
+        row = run_fabric(number, parts, args, args.out, first=number == min(fabrics))
+        rows.append(row)
+        new = not table.exists()
+        with open(table, "a", newline="") as fh:
+            writer = csv.DictWriter(fh, COLUMNS, extrasaction="ignore")
+            if new:
+                writer.writeheader()
+            writer.writerow(row)
+        print(f"fabric {number}: {row['status']}, test DC {row['test_DC']} model "
+              f"{row.get('model_DC', '-')}, nodes {row['test_mode']} / {row.get('model_mode', '-')}",
+              flush=True)
+    with open(table, newline="") as fh:
+        rows = [_typed(r) for r in csv.DictReader(fh)]
+    text = markdown(rows, creep_table(fabrics))
+    (args.out / "identify_fabrics.md").write_text(text)
+    plot(rows, args.out / "nodes_at_matched_dc.png")
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

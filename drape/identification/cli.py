@@ -1,0 +1,210 @@
+"""``python -m drape.identify`` / ``drape identify``: the bending law from scanned drapes.
+
+``python -m drape.identify SCAN [SCAN ...] --base CASE --out DIR [--free KEY ...] [--box KEY=LO,HI]
+[--seeds N] [--evaluations N] [--library LIB] [--weight W] [--resume]``
+
+Writes to DIR: ``identified.json`` (parameters, intervals and how they were computed, the
+scans' and the identified point's descriptors, the time spent where), ``material.toml`` (a
+material file ``load_material`` reads), ``report.html``, the forward runs (``runs/``) and the
+evaluation store (``evaluations.jsonl``, ``evaluations.csv``).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import os
+import sys
+import time
+from pathlib import Path
+
+from drape.batch.sweep_cli import add_batch_options
+from drape.identification.parameters import DEFAULT_FREE, PARAMETERS, full_point, overrides, parse_box
+from drape.identification.search import OutOfReach, Search, run_search
+from drape.run.cli import EXIT_CODES, EXIT_OK, Parser, code_of, describe, fail
+from drape.run.termination import sigterm_raises, stopped
+
+__all__ = ["EXIT_OUT_OF_REACH", "main"]
+
+#: The scans lie beyond what the model reaches over the parameter box.
+EXIT_OUT_OF_REACH = 5
+DEFINITION = "identify.json"
+
+
+def _parser() -> argparse.ArgumentParser:
+    free = ", ".join(f"{p.name} ({p.what}; {p.unit}; box {p.low:g}..{p.high:g})"
+                     for p in PARAMETERS.values())
+    p = Parser(
+        prog="python -m drape.identify",
+        description="Identify the bending law's parameters from scanned Cusick drapes: "
+                    "Bayesian optimisation (Gaussian-process surrogate) of forward runs of a "
+                    "KES-only Cusick case, each point a seed ensemble, on Dask.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=f"free parameters: {free}\n\nexamples:\n"
+               "  python -m drape.identify scans/*.ply --base cases/cusick_kes.toml --out out/id\n"
+               "  python -m drape.identify s1.ply s2.ply --base cases/cusick_kes.toml "
+               "--free bending_length hysteresis anisotropy --out out/id3\n"
+               "  python -m drape.identify --resume --out out/id\n\n"
+               + EXIT_CODES + f"\n  {EXIT_OUT_OF_REACH}    the scans are out of the model's "
+               "reach over the parameter box")
+    p.add_argument("scans", nargs="*", metavar="SCAN", help="scanned drapes (PLY, OBJ, STL, VTU, ...)")
+    p.add_argument("--base", metavar="CASE", help="KES-only Cusick case (e.g. cases/cusick_kes.toml)")
+    p.add_argument("--out", metavar="DIR", required=True, help="output folder")
+    p.add_argument("--free", nargs="+", choices=list(PARAMETERS), metavar="KEY",
+                   help=f"parameters to identify (default: {' '.join(DEFAULT_FREE)})")
+    p.add_argument("--box", action="append", default=[], metavar="KEY=LOW,HIGH",
+                   help="search range of a free parameter (default: the ranges listed below)")
+    p.add_argument("--seeds", type=int, default=2, metavar="N",
+                   help="perturbation seeds per point (default 2)")
+    p.add_argument("--evaluations", type=int, default=14, metavar="N",
+                   help="points run in DIR besides the final one (default 14; a resumed "
+                        "identification may be given more)")
+    p.add_argument("--design", type=int, default=None, metavar="N",
+                   help="Latin-hypercube points after the two corners (default 2 per parameter)")
+    p.add_argument("--library", metavar="LIB", help="folder of earlier forward runs in the same "
+                   "set-up: they warm-start the surrogate, and this run's are added to it")
+    p.add_argument("--weight", type=float, metavar="MG_PER_CM2",
+                   help="fabric weight W (mg/cm²) the material file's B is given at "
+                        "(default: the base case's)")
+    add_batch_options(p, resume="continue the identification in DIR (its stored evaluations "
+                                "are registered again)")
+    return p
+
+
+def _definition(args, out: Path) -> dict:
+    """What the identification is, from the options or (``--resume`` alone) from DIR."""
+    stored = out / DEFINITION
+    if args.base is None:
+        if not (args.resume and stored.exists()):
+            raise ValueError("--base CASE is required (or --resume --out DIR of an identification)")
+        return json.loads(stored.read_text())
+    if not args.scans:
+        raise ValueError("give the scans to identify from (SCAN ...)")
+    for path in [args.base, *args.scans]:
+        if not Path(path).is_file():
+            raise ValueError(f"{path}: no such file")
+    for key, n in (("--seeds", args.seeds), ("--evaluations", args.evaluations)):
+        if n < 1:
+            raise ValueError(f"{key} = {n}: must be >= 1")
+    free = list(dict.fromkeys(args.free or DEFAULT_FREE))
+    if "bending_length" not in free:
+        raise ValueError("--free must include bending_length (the drape's first parameter)")
+    definition = {"scans": [str(Path(s).resolve()) for s in args.scans],
+                  "base": str(Path(args.base).resolve()), "set": args.overrides, "free": free,
+                  "box": parse_box(args.box, free), "seeds": args.seeds,
+                  "evaluations": args.evaluations, "design": args.design,
+                  "weight": args.weight,
+                  "library": str(Path(args.library).resolve()) if args.library else None}
+    definition["box"] = {k: list(v) for k, v in definition["box"].items()}
+    if stored.exists():
+        if not args.resume:
+            raise ValueError(f"{stored} exists: continue it with --resume, or use a new --out")
+        before = json.loads(stored.read_text())
+        if {**before, "evaluations": None} != {**definition, "evaluations": None}:
+            raise ValueError(f"--resume: {stored} defines another identification (only "
+                             f"--evaluations may change); use a new --out")
+    return definition
+
+
+def _setup(definition: dict):
+    """The base case checked (a KES-only Cusick case whose box corners validate), its weight
+    (mg/cm²), thickness and the set-up's fingerprint."""
+    from drape.case.case import dump_case, load_case
+    from drape.identification.store import fingerprint
+    from drape.identification.surrogate import design
+
+    case = load_case(definition["base"], definition["set"])
+    if case.case.analysis != "cusick" or case.material.kes is None:
+        raise ValueError(f"--base {definition['base']}: needs a Cusick case with [material.kes] "
+                         "(e.g. cases/cusick_kes.toml)")
+    weight = definition["weight"] or float(case.material.kes.weight)
+    base = list(definition["set"]) + ([f"material.kes.weight={weight:g}"]
+                                      if definition["weight"] else [])
+    box = {k: tuple(v) for k, v in definition["box"].items()}
+    for corner in design(box, 0):
+        items = base + overrides(full_point(corner, list(box)), weight)
+        try:
+            load_case(definition["base"], items)
+        except ValueError as exc:
+            where = ", ".join(f"{k} = {v:g}" for k, v in corner.items())
+            raise ValueError(f"--box: the corner {where} is not a valid fabric at W = {weight:g} "
+                             f"mg/cm² ({' '.join(str(exc).split())}); narrow --box") from None
+    setup = fingerprint(dump_case(load_case(definition["base"], base)), [], weight)
+    return base, weight, case.material.kes.thickness, setup, box
+
+
+def quiet_dask() -> None:
+    """Dask's own warnings off the console (here and in the workers it starts): a cancelled
+    run at the end is expected, and the tool's errors are its one line."""
+    os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
+    import distributed  # noqa: F401  (its loggers exist once it is imported)
+
+    for name in ["distributed", *logging.root.manager.loggerDict]:
+        if name.startswith("distributed"):
+            logging.getLogger(name).setLevel(logging.ERROR)
+
+
+def _identify(args, out: Path) -> int:
+    from tqdm import tqdm
+
+    from drape.batch.sweep import open_client
+    from drape.identification.forward import ForwardRuns
+    from drape.identification.outputs import finish  # noqa: I001
+    from drape.identification.target import scan_drapes
+    from drape.run.lock import folder_lock
+
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers = {args.workers}: must be >= 1")
+    definition = _definition(args, out)
+    t0 = time.perf_counter()
+    target, scans = scan_drapes(definition["scans"])
+    read_s = time.perf_counter() - t0
+    base, weight, thickness, setup, box = _setup(definition)
+    out.mkdir(parents=True, exist_ok=True)
+    with folder_lock(out):
+        (out / DEFINITION).write_text(json.dumps(definition, indent=1))
+        search = Search(target, box, definition["evaluations"], out, setup,
+                        Path(definition["library"]) if definition["library"] else None,
+                        definition["design"])
+        search.seconds["io"] += read_s
+        quiet_dask()
+        client, cluster = open_client(args.scheduler, args.workers)
+        try:
+            workers = max(1, len(client.scheduler_info()["workers"]))
+            forward = ForwardRuns(client, definition["base"], base, weight, definition["seeds"],
+                                  out / "runs", setup)
+            with tqdm(total=definition["evaluations"], disable=args.quiet, unit="point",
+                      desc="evaluations", file=sys.stderr) as bar:
+                found = run_search(search, forward, max(1, workers // definition["seeds"]), bar)
+            result = finish(search, found, forward, scans, weight, thickness, definition)
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+    if not args.quiet:
+        print(result["summary_line"])
+        print(f"report in {out / 'report.html'}")
+    return EXIT_OK
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command-line entry point; returns the exit code (see ``--help``)."""
+    args = _parser().parse_args(argv)
+    out = Path(args.out)
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    with sigterm_raises():
+        try:
+            return _identify(args, out)
+        except KeyboardInterrupt as exc:
+            return stopped(exc, "identification", f"finished evaluations are in "
+                                                  f"{out / 'evaluations.csv'} (continue with --resume)")
+        except OutOfReach as exc:
+            return fail(str(exc), EXIT_OUT_OF_REACH)
+        except Exception as exc:    # every problem is one line, with the code of its kind
+            return fail(describe(exc), code_of(exc))
+
+
+if __name__ == "__main__":
+    from drape.identification.cli import main as _main
+
+    sys.exit(_main())

@@ -1,0 +1,117 @@
+"""What an identification leaves in DIR: the identified point run once more, ``identified.json``,
+``material.toml`` and ``report.html``.
+
+The identified point is the surrogate's (:meth:`drape.identification.surrogate.Surrogate.identified`;
+not the best evaluation, whose misfit carries its seeds' luck); it is run under the same seeds as every point, and its drapes are the
+simulated ones the report sets beside the scans and the prediction a validation compares.
+"""
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+from drape.identification.objective import misfit
+from drape.identification.parameters import PARAMETERS, full_point, kes_values
+from drape.identification.store import append_evaluation, read_evaluations
+from drape.identification.surrogate import WITHIN
+
+__all__ = ["FINAL", "INTERVAL_RULE", "MATCHED_Z", "finish"]
+
+#: |z_DC| up to which the identified point's drapes count as matching the scans' DC.
+MATCHED_Z = 2.0
+#: Name of the identified point's evaluation.
+FINAL = "identified"
+INTERVAL_RULE = (f"Intervals: the range of each parameter over the part of the box where the "
+                 f"Gaussian-process surrogate's misfit, one posterior standard deviation on the "
+                 f"hopeful side, is within {WITHIN:g} of its mean at the identified point (J sums squared "
+                 f"differences in units of the scans' scatter between specimens, so there a "
+                 f"point may match the scans as well as the best, up to that scatter).")
+
+
+def _final_evaluation(search, found: dict, forward):
+    """The identified point's evaluation: stored already (a resumed identification) or run."""
+    point = full_point(found["answer"]["point"], search.free)
+    finals = [e for e in read_evaluations(search.out) if e.name.startswith(FINAL)]
+    for e in finals:
+        if e.setup == search.setup and e.point == point:
+            return e
+    t0 = time.perf_counter()
+    # a resumed identification given more evaluations may end at another point: its own folder
+    forward.submit(FINAL if not finals else f"{FINAL}-{len(finals)}", point)
+    evaluation = forward.next_finished()
+    search.seconds["forward_wait"] += time.perf_counter() - t0
+    append_evaluation(search.out, evaluation)
+    if search.library is not None:
+        append_evaluation(search.library, evaluation)
+    return evaluation
+
+
+def finish(search, found: dict, forward, scans, weight: float, thickness, definition) -> dict:
+    """Run the identified point, write identified.json, material.toml and report.html."""
+    from drape.identification.material_file import write_material
+    from drape.identification.report import simulated_measurements, write_report
+
+    final = _final_evaluation(search, found, forward)
+    if not len(final.drapes):
+        raise RuntimeError(f"the identified point's runs gave no drape (see {search.out / 'runs'})")
+    t0 = time.perf_counter()
+    answer = found["answer"]
+    point = final.point
+    m = misfit(search.target, final.drapes)
+    material = write_material(search.out / "material.toml", "identified", point, weight,
+                              thickness, answer["intervals"], len(search.target),
+                              built=_built(definition, point, weight))
+    forward_cpu = sum(e.wall_time_s for e in read_evaluations(search.out))
+    result = {
+        "parameters": answer["point"], "intervals": answer["intervals"],
+        "units": {k: PARAMETERS[k].unit for k in search.free},
+        "interval_rule": INTERVAL_RULE, "fixed": {k: v for k, v in point.items()
+                                                  if k not in search.free},
+        "weight_mg_per_cm2": weight, "material_kes": kes_values(point, weight),
+        "material_file": str(material), "target": search.target.summary(),
+        "simulated": final.drapes.summary(), "misfit": dict(m), "surrogate": answer,
+        "evaluations": {"this_folder": found["own"] + 1, "from_library": found["library"],
+                        "seeds": definition["seeds"]},
+        "seconds": {**{k: round(v, 2) for k, v in search.seconds.items()},
+                    "forward_runs_worker_total": round(forward_cpu, 1)},
+        "scans": [str(s) for s in definition["scans"]],
+    }
+    params = ", ".join(f"{k} {v:.3g} [{answer['intervals'][k]['low']:.3g}, "
+                       f"{answer['intervals'][k]['high']:.3g}] {PARAMETERS[k].unit}"
+                       for k, v in answer["point"].items())
+    result["matched"] = bool(abs(m["z_DC"]) <= MATCHED_Z)
+    warn = "" if result["matched"] else (f"NOT MATCHED (the identified point's DC is over "
+                                         f"{MATCHED_Z:g} sd of the scans' scatter off), ")
+    result["summary_line"] = (f"{warn}identified: {params}; DC {final.drapes.dc.mean():.1f} % against "
+                              f"{search.target.dc.mean():.1f} %, nodes {final.drapes.nodes.tolist()}"
+                              f" against {search.target.nodes.tolist()}, J = {m.J:.2f}")
+    history = found["history"] + [{"name": FINAL, "point": answer["point"], **m}]
+    surrogate_for_map = _refit(search, found)
+    write_report(search.out, result, scans, simulated_measurements(final), history,
+                 surrogate_for_map)
+    search.seconds["io"] += time.perf_counter() - t0
+    result["seconds"] = {**{k: round(v, 2) for k, v in search.seconds.items()},
+                         "forward_runs_worker_total": result["seconds"]["forward_runs_worker_total"]}
+    (search.out / "identified.json").write_text(json.dumps(result, indent=1))
+    return result
+
+
+def _built(definition: dict, point: dict, weight: float):
+    """The material a run of ``point`` builds (SI)."""
+    from drape.case.build import build_material
+    from drape.case.case import load_case
+    from drape.identification.parameters import overrides
+
+    items = list(definition["set"]) + [f"material.kes.weight={weight:g}"] + overrides(point, weight)
+    return build_material(load_case(definition["base"], items))
+
+
+def _refit(search, found: dict):
+    """A surrogate on every evaluation, for the report's map."""
+    from drape.identification.surrogate import Surrogate
+
+    s = Surrogate(search.box)
+    for h in found["history"]:
+        s.register(h["point"], h["J"])
+    return s
