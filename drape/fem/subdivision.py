@@ -99,7 +99,7 @@ def interpolation_matrix(mesh, element, owner, n: int, components: int = 3):
     X = (ij / float(n)).T                                                    # (2, m)
     sample = CellBasis(mesh, element, quadrature=(X, np.ones(X.shape[1])))
     e, q = owner[:, 0], owner[:, 1]
-    values = np.stack([np.asarray(phi[0].value)[e, q] for phi in sample.basis], axis=1)   # (N, nbf)
+    values = np.stack([np.asarray(phi[0])[e, q] for phi in sample.basis], axis=1)   # (N, nbf)
     dofs = np.asarray(sample.element_dofs)[:, e].T                                       # (N, nbf)
     keep = values != 0.0
     rows, cols, data = [], [], []
