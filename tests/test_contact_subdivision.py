@@ -133,3 +133,16 @@ def test_force_and_tangent_through_the_interpolation_match_finite_differences(mo
     K = sp.csr_matrix((values, (rows, cols)), shape=(shell.ndofs,) * 2)
     f_plus, f_minus = contact.forces(u + d, u, 0.0)[0], contact.forces(u - d, u, 0.0)[0]
     np.testing.assert_allclose((f_plus - f_minus) / 2, K @ d, rtol=1e-4, atol=1e-6 * np.abs(K @ d).max())
+
+
+@pytest.mark.parametrize("value, code, message", [("2", 0, "OK"), ("0", 2, "contact.subdivision = 0: must be >= 1"),
+                                                  ("1.5", 2, "contact.subdivision = 1.5: must be an integer")])
+def test_case_key_subdivision_is_checked(value, code, message, capsys):
+    from pathlib import Path
+
+    from drape.run.runner import main as run
+
+    case = Path(__file__).resolve().parents[1] / "cases" / "peirce_platform.toml"
+    assert run([str(case), "--check", "--set", f"contact.subdivision={value}"]) == code
+    out, err = capsys.readouterr()
+    assert message in out + err
