@@ -57,7 +57,7 @@ def build_contact(spec, shell, material, u0=None) -> Contact:
     thickness = spec.thickness if spec.thickness is not None else getattr(material, "thickness", None)
     if thickness is None:
         raise ContactInputError("contact.thickness: the material has no thickness; give contact.thickness")
-    points, triangles, dofs = shell.contact_vertices()
+    points, triangles, dofs = shell.contact_vertices(spec.subdivision)
     scene = Scene(points, triangles, [_body(b) for b in spec.body], spec.self_contact)
     kappa = spec.barrier_stiffness
     if kappa is None:

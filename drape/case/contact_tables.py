@@ -171,6 +171,10 @@ class ContactSpec(_Section):
     """Let the fabric collide with itself."""
     mu_self: float = Field(0.0, ge=0)
     """Friction coefficient of the fabric on itself."""
+    subdivision: int = Field(1, ge=1, strict=True)
+    """Collision mesh: every fabric triangle split into subdivision² sub-triangles whose
+    vertices follow the shell's field inside the element (1: the mesh vertices alone, whose
+    chords cut the curved elements)."""
     body: list[BodySpec] = []
     """``[[contact.body]]``: the rigid bodies."""
 

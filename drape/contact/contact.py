@@ -14,10 +14,12 @@ IPC Toolkit (``ipctk``):
 - continuous collision detection: a Newton step is cut to 0.8 times the largest fraction of
   it that keeps every pair at least ``dmin`` apart, so no iterate passes through.
 
-The fabric's collision vertices are the mesh vertices; their positions are the reference
-points plus the shell's vertex-value dofs (the Argyris value dof of each vertex, as in
-``nodal_displacement``), a linear selection ``x = X + P u``: forces on the dofs are ``Pᵀ g``,
-tangents ``Pᵀ H P`` (the Hessians projected to positive semi-definite, as IPC does).
+The fabric's collision vertices are the mesh vertices, or the sub-vertices of a finer
+collision mesh (``[contact] subdivision``, :mod:`drape.fem.subdivision`); their positions are
+the reference points plus a linear map of the dofs, ``x = X + P u``: a selection of the
+vertex-value dofs (the Argyris value dof of each vertex, as in ``nodal_displacement``), or the
+shell's field evaluated at the sub-vertices with the element basis. Forces on the dofs are
+``Pᵀ g``, tangents ``Pᵀ H P`` (the Hessians projected to positive semi-definite, as IPC does).
 """
 from __future__ import annotations
 
@@ -37,13 +39,15 @@ _PSD = ipctk.PSDProjectionMethod.CLAMP
 
 
 class Contact:
-    """Contact of a fabric (its vertex dofs) with the bodies of a scene, and with itself.
+    """Contact of a fabric (its collision vertices) with the bodies of a scene, and with itself.
 
     Parameters
     ----------
     scene : drape.contact.bodies.Scene
-    vertex_dofs : ndarray of int, shape (n_fabric, 3)
-        The dofs of the x, y, z displacement of every fabric vertex (in the scene's order).
+    interpolation : ndarray of int, shape (n_fabric, 3), or sparse matrix (3 n_fabric, ndofs)
+        How the fabric vertices (in the scene's order) move with the dofs: the dofs of the x,
+        y, z displacement of every vertex, or the matrix ``P`` whose row ``3 k + i`` gives
+        component i of vertex k's displacement as ``P u``.
     ndofs : int
         Size of the structural model's dof vector.
     dhat : float
@@ -58,7 +62,7 @@ class Contact:
         Friction coefficient of the fabric on itself (self-contact).
     """
 
-    def __init__(self, scene: Scene, vertex_dofs, ndofs: int, *, dhat: float, stiffness: float,
+    def __init__(self, scene: Scene, interpolation, ndofs: int, *, dhat: float, stiffness: float,
                  thickness: float = 0.0, eps_v: float = 1e-3, mu_self: float = 0.0):
         for name, value, low in (("dhat", dhat, 0.0), ("stiffness", stiffness, 0.0), ("eps_v", eps_v, 0.0)):
             if not (np.isfinite(value) and value > low):
@@ -68,10 +72,10 @@ class Contact:
         if not (np.isfinite(mu_self) and mu_self >= 0):
             raise ContactInputError(f"contact.mu_self = {mu_self!r} must be >= 0")
         self.scene = scene
-        self.vertex_dofs = np.asarray(vertex_dofs, dtype=np.int64).reshape(scene.n_fabric, 3)
-        self._dofs = self.vertex_dofs.ravel()
-        self._m = self._dofs.size
         self.ndofs = int(ndofs)
+        self.P = self._interpolation(interpolation, scene.n_fabric, self.ndofs)
+        self._Pt = self.P.T.tocsr()
+        self._m = self.P.shape[0]
         self.dhat, self.dmin = float(dhat), 0.5 * float(thickness)
         self.kappa, self.mu_self = float(stiffness), float(mu_self)
         self.barrier = ipctk.BarrierPotential(self.dhat, self.kappa)
@@ -86,10 +90,23 @@ class Contact:
         self._power = 0.0
         self._lag(self._u_lag, self._t_lag)
 
+    @staticmethod
+    def _interpolation(interpolation, n_fabric: int, ndofs: int):
+        """``P`` as a CSR matrix (3 n_fabric, ndofs): given, or the selection of vertex dofs."""
+        if sp.issparse(interpolation):
+            P = sp.csr_matrix(interpolation, dtype=float)
+        else:
+            dofs = np.asarray(interpolation, dtype=np.int64).reshape(n_fabric, 3).ravel()
+            P = sp.csr_matrix((np.ones(dofs.size), (np.arange(dofs.size), dofs)), shape=(dofs.size, ndofs))
+        if P.shape != (3 * n_fabric, ndofs):
+            raise ContactInputError(f"contact: the interpolation is {P.shape}, not (3 × {n_fabric} vertices, "
+                                    f"{ndofs} dofs)")
+        return P
+
     # ------------------------------------------------------------------ kinematics
     def fabric_values(self, u) -> np.ndarray:
         """The fabric vertices' (n_fabric, 3) share of a dof vector (``P u``)."""
-        return np.asarray(u, dtype=float)[self.vertex_dofs]
+        return (self.P @ np.asarray(u, dtype=float)).reshape(-1, 3)
 
     def positions(self, u, t: float) -> np.ndarray:
         """Positions of every collision vertex: the fabric at ``u``, the bodies at ``t``."""
@@ -118,12 +135,12 @@ class Contact:
         force = np.zeros(self.ndofs)
         parts = []
         if len(collisions):
-            force[self._dofs] += self.barrier.gradient(collisions, mesh, x)[:self._m]
+            force += self._Pt @ self.barrier.gradient(collisions, mesh, x)[:self._m]
             if weights is not None and weights[0] != 0.0:
                 parts.append(weights[0] * self._fabric_block(self.barrier.hessian(collisions, mesh, x, _PSD)))
         if not self._lagged.empty():
             w = self.scene.velocities(self.fabric_values(v), t)
-            force[self._dofs] += self.friction.gradient(self._lagged, mesh, w)[:self._m]
+            force += self._Pt @ self.friction.gradient(self._lagged, mesh, w)[:self._m]
             if weights is not None and weights[1] != 0.0:
                 parts.append(weights[1] * self._fabric_block(self.friction.hessian(self._lagged, mesh, w, _PSD)))
         if weights is None:
@@ -131,16 +148,17 @@ class Contact:
         if not parts:
             return force, (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))
         block = sum(parts[1:], parts[0]).tocoo()
-        return force, (self._dofs[block.row], self._dofs[block.col], block.data)
+        return force, (block.row.astype(np.int64), block.col.astype(np.int64), block.data)
 
     def _fabric_block(self, H):
-        """The fabric vertices' block of a collision-mesh Hessian (bodies are prescribed)."""
-        return sp.csc_matrix(H)[:self._m, :self._m]
+        """``Pᵀ H P`` of the fabric vertices' block of a collision-mesh Hessian (bodies are
+        prescribed)."""
+        return (self._Pt @ sp.csr_matrix(H)[:self._m, :self._m] @ self.P).tocsr()
 
     def add_tangent(self, J, tangent):
         """``J`` (CSR) plus the coordinates ``tangent``: scattered into ``J``'s data when every
-        entry is in its pattern (contact with bodies: a vertex with itself or with its
-        triangle's vertices), else a sparse sum (self-contact couples distant vertices)."""
+        entry is in its pattern (contact with bodies: a vertex with itself, a sub-vertex
+        with its triangle's dofs), else a sparse sum (self-contact couples distant vertices)."""
         rows, cols, values = tangent
         if values.size == 0:
             return J

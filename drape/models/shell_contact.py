@@ -11,6 +11,7 @@ import time
 
 import numpy as np
 
+from drape.fem.subdivision import interpolation_matrix, subdivide
 from drape.models.protocol import Evaluation
 
 __all__ = ["ShellContact"]
@@ -21,12 +22,25 @@ class ShellContact:
 
     contact = None
 
-    def contact_vertices(self):
-        """The fabric's collision vertices: reference points (n, 3), triangles (m, 3) and the
-        dofs (n, 3) of each vertex's displacement (its Argyris value dofs)."""
-        points = np.column_stack([self.mesh.p.T, np.zeros(self.mesh.p.shape[1])])
-        dofs = 3 * np.asarray(self.basis.nodal_dofs[0])[:, None] + np.arange(3)
-        return points, self.mesh.t.T, dofs
+    def contact_vertices(self, subdivision: int = 1):
+        """The fabric's collision vertices: reference points (n, 3), triangles (m, 3) and how
+        each vertex's displacement follows from the dofs.
+
+        With ``subdivision = 1`` the vertices are the mesh's and the third item is the dofs
+        (n, 3) of each vertex's displacement (its Argyris value dofs). With ``subdivision = s
+        > 1`` every triangle is split into s² sub-triangles (:mod:`drape.fem.subdivision`) and
+        the third item is the sparse (3 n, ndofs) matrix ``P`` that evaluates the shell's
+        field at the sub-vertices with the element basis, so that contact sees the curved
+        elements rather than their chords.
+        """
+        s = int(subdivision)
+        if s == 1:
+            points = np.column_stack([self.mesh.p.T, np.zeros(self.mesh.p.shape[1])])
+            dofs = 3 * np.asarray(self.basis.nodal_dofs[0])[:, None] + np.arange(3)
+            return points, self.mesh.t.T, dofs
+        flat, triangles, owner = subdivide(self.mesh, s)
+        P = interpolation_matrix(self.mesh, self.element, owner, s)
+        return np.column_stack([flat, np.zeros(len(flat))]), triangles, P
 
     def attach_contact(self, contact) -> None:
         """Let ``contact`` (a :class:`drape.contact.contact.Contact` on :meth:`contact_vertices`)
