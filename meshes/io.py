@@ -181,3 +181,37 @@ def save_mesh(mesh: MeshTri, path) -> Path:
     meshio.Mesh(points, cells, cell_data={"gmsh:physical": physical, "gmsh:geometrical": physical},
                 field_data=field_data).write(path, file_format="gmsh22", binary=False)
     return path
+
+
+def read_quietly(path, error=None) -> meshio.Mesh:
+    """``meshio.read`` with its console output held back and every failure one line.
+
+    meshio prints what each reader said and calls ``sys.exit`` when none could read the
+    file; here that becomes ``error`` (an exception class, default :class:`MeshError`)
+    with the message ``"<path>: cannot read as a mesh (<first thing it said>)"``.
+    """
+    error = MeshError if error is None else error
+    said = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(said), contextlib.redirect_stderr(said), \
+                warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return meshio.read(path)
+    except (Exception, SystemExit) as exc:  # meshio raises many kinds, some readers exit
+        told = [] if isinstance(exc, SystemExit) else [str(exc)]
+        lines = [ln.strip() for ln in [*told, *said.getvalue().splitlines()] if ln.strip()]
+        raise error(f"{path}: cannot read as a mesh "
+                    f"({lines[0] if lines else type(exc).__name__})") from None
+
+
+def surface_triangles(mesh: meshio.Mesh) -> np.ndarray | None:
+    """The triangles of a surface mesh, quads split in two, other cells left out (int64,
+    shape (m, 3)); None when it has neither."""
+    parts = []
+    for block in mesh.cells:
+        data = np.asarray(block.data, dtype=np.int64)
+        if block.type.startswith("triangle"):
+            parts.append(data[:, :3])
+        elif block.type.startswith("quad"):
+            parts += [data[:, [0, 1, 2]], data[:, [0, 2, 3]]]
+    return np.concatenate(parts) if parts else None

@@ -13,14 +13,13 @@ the stated specimen.
 """
 from __future__ import annotations
 
-import contextlib
-import io
-import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import shapely
+
+from meshes.io import read_quietly, surface_triangles
 
 __all__ = ["ScanError", "DiscTop", "read_scan", "check_finite", "check_units", "find_disc_top",
            "check_extent"]
@@ -57,35 +56,16 @@ class DiscTop:
 
 def _triangles(mesh) -> np.ndarray:
     """The mesh's triangles; quads are split in two, other cells ignored."""
-    parts = []
-    for block in mesh.cells:
-        data = np.asarray(block.data)
-        if block.type.startswith("triangle"):
-            parts.append(data[:, :3])
-        elif block.type.startswith("quad"):
-            parts += [data[:, [0, 1, 2]], data[:, [0, 2, 3]]]
-    if not parts:
+    triangles = surface_triangles(mesh)
+    if triangles is None:
         kinds = ", ".join(sorted({b.type for b in mesh.cells})) or "none"
         raise ScanError(f"no triangles: not a surface mesh (cells: {kinds})")
-    return np.concatenate(parts).astype(np.int64)
+    return triangles
 
 
 def _read_mesh(path: Path):
-    """``meshio.read`` with its console output held back and every failure one ScanError
-    (meshio prints what each reader said and exits when no reader could read the file)."""
-    import meshio
-
-    said = io.StringIO()
-    try:
-        with contextlib.redirect_stdout(said), contextlib.redirect_stderr(said), \
-                warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            return meshio.read(path)
-    except (Exception, SystemExit) as exc:  # meshio raises many kinds for a file it cannot parse
-        told = [] if isinstance(exc, SystemExit) else [str(exc)]
-        lines = [ln.strip() for ln in [*told, *said.getvalue().splitlines()] if ln.strip()]
-        reason = lines[0] if lines else type(exc).__name__
-        raise ScanError(f"{path}: cannot read as a mesh ({reason})") from None
+    """The mesh in ``path``; every failure one :class:`ScanError` line."""
+    return read_quietly(path, ScanError)
 
 
 def read_scan(path, scale: float = 1.0):

@@ -29,7 +29,7 @@ from drape.batch.rows import RESULT_COLUMNS, read_results
 from drape.run.cli import EXIT_BAD_INPUT, Parser
 from drape.run.output import read_pvd
 
-__all__ = ["top_view_figure", "draw_top_view", "dc_figure", "history_figure", "sweep_report", "run_report",
+__all__ = ["figure_data_uri", "new_figure", "top_view_figure", "draw_top_view", "dc_figure", "history_figure", "sweep_report", "run_report",
            "write_report", "main"]
 
 _CSS = """
@@ -49,13 +49,15 @@ GOOD = ("completed", "settled")
 
 
 # --------------------------------------------------------------------------- pictures
-def _data_uri(fig, dpi: int = 80) -> str:
+def figure_data_uri(fig, dpi: int = 80) -> str:
+    """A matplotlib figure as a PNG ``data:`` URI, for a self-contained HTML page."""
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi)
     return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
 
 
-def _figure(size):
+def new_figure(size):
+    """A matplotlib figure off pyplot (no global state, no display), laid out constrained."""
     from matplotlib.figure import Figure
 
     return Figure(figsize=size, layout="constrained")
@@ -77,7 +79,7 @@ def top_view_figure(vtu_path, size: float = 2.4):
 
     Returns a matplotlib ``Figure`` (not attached to pyplot).
     """
-    fig = _figure((size, size))
+    fig = new_figure((size, size))
     draw_top_view(fig.add_subplot(), vtu_path)
     return fig
 
@@ -122,7 +124,7 @@ def dc_figure(records: list[dict]):
     sim = np.isfinite(c) & np.isfinite(dc)
     if not sim.any():
         return None
-    fig = _figure((5.5, 4.0))
+    fig = new_figure((5.5, 4.0))
     ax = fig.add_subplot()
     ax.plot(c[sim], dc[sim], "o", color="tab:blue", label="computed")
     meas = np.isfinite(c) & np.isfinite(measured)
@@ -149,7 +151,7 @@ def history_figure(history_csv):
     if not rows:
         return None
     t = np.array([_number(r["t"]) for r in rows])
-    fig = _figure((5.5, 3.2))
+    fig = new_figure((5.5, 3.2))
     ax = fig.add_subplot()
     for key in ("kinetic", "strain"):
         if key in rows[0]:
@@ -189,7 +191,7 @@ def _thumbnail(run_dir: Path, pvd: str | None) -> str:
     vtu = _last_vtu(run_dir, pvd) if run_dir.is_dir() else None
     if vtu is None or not vtu.exists():
         return ""
-    return f'<img class="thumb" alt="top view" src="{_data_uri(top_view_figure(vtu))}">'
+    return f'<img class="thumb" alt="top view" src="{figure_data_uri(top_view_figure(vtu))}">'
 
 
 #: Result columns shown in the sweep table, with their headings.
@@ -219,7 +221,7 @@ def sweep_report(out_dir) -> str:
             f"<p>{case}{len(records)} of {planned} runs finished, {good} completed or "
             "settled.</p>", "<h2>Drape coefficient and bending length</h2>"]
     fig = dc_figure(records)
-    body.append(f'<img alt="DC against bending length" src="{_data_uri(fig, dpi=100)}">' if fig
+    body.append(f'<img alt="DC against bending length" src="{figure_data_uri(fig, dpi=100)}">' if fig
                 else '<p class="note">No run has a drape coefficient (Cusick runs have one).</p>')
     if (out_dir / "ensemble.json").exists():
         body += _ensemble_table(json.loads((out_dir / "ensemble.json").read_text()))
@@ -294,13 +296,13 @@ def run_report(run_dir) -> str:
     body.append("</table>")
     vtu = _last_vtu(run_dir, s.get("pvd"))
     if vtu is not None and vtu.exists():
-        body.append(f'<figure><img alt="top view" src="{_data_uri(top_view_figure(vtu, 4.0))}">'
+        body.append(f'<figure><img alt="top view" src="{figure_data_uri(top_view_figure(vtu, 4.0))}">'
                     f"<figcaption>top view at t = {_fmt(s.get('t_final'))} s, coloured by "
                     "height</figcaption></figure>")
     if (run_dir / "history.csv").exists():
         fig = history_figure(run_dir / "history.csv")
         if fig is not None:
-            body.append(f'<figure><img alt="energies" src="{_data_uri(fig, dpi=100)}">'
+            body.append(f'<figure><img alt="energies" src="{figure_data_uri(fig, dpi=100)}">'
                         "<figcaption>energies</figcaption></figure>")
     files = [s.get("pvd"), "history.csv", "summary.json", "case.resolved.toml", "run.log"]
     files += [Path(v).name for k, v in analysis.items() if k.endswith("_png") and v]

@@ -8,14 +8,13 @@ outside, as STL and most exporters write them).
 """
 from __future__ import annotations
 
-import contextlib
-import io
-import warnings
 from pathlib import Path
 
 import numpy as np
 
 from constitutive.units import parse_unit, ureg
+
+from meshes.io import read_quietly, surface_triangles
 
 from .errors import ContactInputError
 from .surface import Surface
@@ -42,34 +41,16 @@ def length_factor(units: str) -> float:
 
 
 def _read(path: Path):
-    """``meshio.read`` with its console output held back and every failure one line."""
-    import meshio
-
-    said = io.StringIO()
-    try:
-        with contextlib.redirect_stdout(said), contextlib.redirect_stderr(said), \
-                warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            return meshio.read(path)
-    except (Exception, SystemExit) as exc:  # meshio raises many kinds, some readers exit
-        told = [] if isinstance(exc, SystemExit) else [str(exc)]
-        lines = [ln.strip() for ln in [*told, *said.getvalue().splitlines()] if ln.strip()]
-        raise ContactInputError(f"{path}: cannot read as a mesh "
-                                f"({lines[0] if lines else type(exc).__name__})") from None
+    """The mesh in ``path``; every failure one :class:`ContactInputError` line."""
+    return read_quietly(path, ContactInputError)
 
 
 def _triangles(mesh, path) -> np.ndarray:
-    parts = []
-    for block in mesh.cells:
-        data = np.asarray(block.data, dtype=np.int64)
-        if block.type == "triangle":
-            parts.append(data)
-        elif block.type == "quad":
-            parts += [data[:, [0, 1, 2]], data[:, [0, 2, 3]]]
-    if not parts:
+    triangles = surface_triangles(mesh)
+    if triangles is None:
         kinds = ", ".join(sorted({b.type for b in mesh.cells})) or "none"
         raise ContactInputError(f"{path}: not a surface (no triangles or quads; cells: {kinds})")
-    return np.concatenate(parts)
+    return triangles
 
 
 def read_surface(path, units: str = "m", scale: float = 1.0) -> Surface:

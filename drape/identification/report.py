@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import base64
 import html
-import io
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +16,7 @@ import numpy as np
 from drape.analyses.drape_coefficient import plot_top_view
 from drape.analyses.scan import ScanError
 from drape.analyses.scan_measure import measure_scan
+from drape.batch.report import figure_data_uri, new_figure
 from drape.run.output import read_pvd
 
 __all__ = ["simulated_measurements", "write_report"]
@@ -30,18 +30,6 @@ figcaption { text-align: center; font-size: 0.85em; } img.top { width: 220px; }
 
 def _uri_of_png(path: Path) -> str:
     return "data:image/png;base64," + base64.b64encode(Path(path).read_bytes()).decode("ascii")
-
-
-def _uri(fig, dpi: int = 90) -> str:
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi)
-    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
-
-
-def _figure(size):
-    from matplotlib.figure import Figure
-
-    return Figure(figsize=size, layout="constrained")
 
 
 def simulated_measurements(evaluation) -> list:
@@ -73,7 +61,7 @@ def _top_views(measurements, folder: Path) -> str:
 
 
 def _outlines(scans, simulated) -> str:
-    fig = _figure((10, 3.6))
+    fig = new_figure((10, 3.6))
     ax, bx = fig.subplots(1, 2)
     for group, colour, label in ((scans, "C0", "scan"), (simulated, "C3", "simulated")):
         for i, m in enumerate(group):
@@ -88,11 +76,11 @@ def _outlines(scans, simulated) -> str:
     ax.set(xlabel="θ (deg)", ylabel="outline radius r(θ) (cm)", title="outlines")
     bx.set(xlabel="harmonic k", ylabel="amplitude a_k (mm)", title="spectra (mean ± sd)")
     ax.legend(), bx.legend()
-    return f'<img src="{_uri(fig)}">'
+    return f'<img src="{figure_data_uri(fig, dpi=90)}">'
 
 
 def _objective(history) -> str:
-    fig = _figure((5.5, 3.4))
+    fig = new_figure((5.5, 3.4))
     ax = fig.subplots()
     J = np.array([h["J"] for h in history])
     ax.semilogy(np.arange(1, len(J) + 1), 1 + J, "o", ms=4, label="evaluation")
@@ -100,7 +88,7 @@ def _objective(history) -> str:
     ax.axhline(2.0, color="0.5", ls=":", label="J = 1 (within the scans' scatter)")
     ax.set(xlabel="evaluation (library first)", ylabel="1 + J", title="misfit")
     ax.legend(fontsize=8)
-    return f'<img src="{_uri(fig)}">'
+    return f'<img src="{figure_data_uri(fig, dpi=90)}">'
 
 
 def _surrogate_map(surrogate, history, answer) -> str:
@@ -112,7 +100,7 @@ def _surrogate_map(surrogate, history, answer) -> str:
     side = int(round(np.sqrt(len(points))))
     X = np.array([p[x] for p in points]).reshape(side, side)
     Y = np.array([p[y] for p in points]).reshape(side, side)
-    fig = _figure((5.5, 4.2))
+    fig = new_figure((5.5, 4.2))
     ax = fig.subplots()
     c = ax.contourf(X, Y, np.log10(1 + J.reshape(side, side)), levels=20, cmap="viridis_r")
     fig.colorbar(c, ax=ax, label="log10(1 + J), surrogate mean")
@@ -121,7 +109,7 @@ def _surrogate_map(surrogate, history, answer) -> str:
     ax.plot(answer["point"][x], answer["point"][y], "r*", ms=12)
     ax.set(xscale="log", yscale="log", xlabel=x, ylabel=y,
            title="surrogate misfit (white: within 1 of the minimum)")
-    return f'<img src="{_uri(fig)}">'
+    return f'<img src="{figure_data_uri(fig, dpi=90)}">'
 
 
 def _table(result: dict) -> str:
