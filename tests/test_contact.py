@@ -1,6 +1,6 @@
 """Contact of the shell with rigid bodies (IPC): each test against an independent reference.
 
-Bodies are built here from a tiny local helper (a large two-triangle plane patch), so the tests
+Bodies are built here by a small function here (a large two-triangle plane patch), so the tests
 depend on nothing but the contact core.
 """
 from types import SimpleNamespace
