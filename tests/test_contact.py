@@ -424,6 +424,9 @@ mu = 0.3
 @pytest.mark.parametrize("body, message", [
     ('shape = "mesh"\nfile = "nowhere.stl"', "contact.body 'b': "),
     ('shape = "sphere"\ncentre = [0.05, 0.05, 0.0]\nradius = "2 cm"', "starts intersecting body 'b'"),
+    # a slip of a digit is refused before any array is made (it would fill the memory)
+    ('shape = "sphere"\ncentre = [0.05, 0.05, -1.0]\nradius = "2 cm"\nresolution = 2147483648',
+     "triangles asked for, more than 100,000; check its resolution"),
 ])
 def test_a_case_with_an_unusable_body_exits_2_with_one_line(tmp_path, capsys, body, message):
     code, err = run_case_text(tmp_path, f'[[contact.body]]\nname = "b"\n{body}\n', capsys)

@@ -15,7 +15,31 @@ from drape.contact.contact import Contact
 from drape.contact.motion import RigidPath
 from drape.contact.stiffness import barrier_stiffness
 
-__all__ = ["build_contact", "body_surface"]
+__all__ = ["build_contact", "body_surface", "body_triangles_asked", "MAX_CONTACT_TRIANGLES"]
+
+#: Most triangles a body, or the fabric's collision mesh, may have: as for ``[mesh]``
+#: (:data:`drape.case.build.MAX_TRIANGLES`), a slip of a digit is refused before any array is made.
+MAX_CONTACT_TRIANGLES = 100_000
+
+#: Triangles per resolution² of each built shape (upper bounds of the builders' counts).
+_TRIANGLES_PER_RESOLUTION2 = {"plane": 2.0, "sphere": 4.0, "cylinder": 1.0, "box": 14.0, "disc": 2.0}
+
+
+def body_triangles_asked(spec) -> float:
+    """About how many triangles a ``[[contact.body]]`` table asks for (a mesh file: 0).
+
+    >>> from drape.case.contact_tables import SphereBody
+    >>> body_triangles_asked(SphereBody(name="ball", shape="sphere", centre=[0, 0, 0], radius=0.1))
+    2304.0
+    """
+    factor = _TRIANGLES_PER_RESOLUTION2.get(spec.shape)
+    return 0.0 if factor is None else factor * float(spec.resolution) ** 2
+
+
+def _check_size(what: str, asked: float, key: str) -> None:
+    if asked > MAX_CONTACT_TRIANGLES:
+        raise ContactInputError(f"{what}: about {asked:.3g} triangles asked for, more than "
+                                f"{MAX_CONTACT_TRIANGLES:,}; check {key}")
 
 
 def body_surface(spec):
@@ -37,6 +61,7 @@ def body_surface(spec):
 
 
 def _body(spec) -> RigidBody:
+    _check_size(f"contact.body {spec.name!r}", body_triangles_asked(spec), "its resolution")
     try:
         path = None if spec.path is None else RigidPath(spec.path.times, spec.path.translations)
         return RigidBody(spec.name, body_surface(spec), spec.mu, path)
@@ -57,6 +82,7 @@ def build_contact(spec, shell, material, u0=None) -> Contact:
     thickness = spec.thickness if spec.thickness is not None else getattr(material, "thickness", None)
     if thickness is None:
         raise ContactInputError("contact.thickness: the material has no thickness; give contact.thickness")
+    _check_size("contact", float(len(shell.w)) * float(spec.subdivision) ** 2, "contact.subdivision")
     points, triangles, dofs = shell.contact_vertices(spec.subdivision)
     scene = Scene(points, triangles, [_body(b) for b in spec.body], spec.self_contact)
     kappa = spec.barrier_stiffness

@@ -158,10 +158,12 @@ BodySpec = Annotated[Union[PlaneBody, SphereBody, CylinderBody, BoxBody, DiscBod
 class ContactSpec(_Section):
     """[contact]: contact of the fabric with rigid bodies and with itself (IPC, ``drape.contact``)."""
 
-    thickness: Q("m", gt=0) | None = None
-    """Fabric thickness [m]: the mid-surface keeps half of it from a body. Default: the material's."""
-    dhat: Q("m", gt=0) = 1e-3
-    """Barrier activation distance d̂ [m] beyond half the thickness."""
+    thickness: Q("m", gt=0, le=0.05) | None = None
+    """Fabric thickness [m], at most 5 cm: the mid-surface keeps half of it from a body.
+    Default: the material's."""
+    dhat: Q("m", gt=0, le=0.05) = 1e-3
+    """Barrier activation distance d̂ [m] beyond half the thickness, at most 5 cm (a layer a
+    fabric rests in, not a gap it hangs across)."""
     barrier_stiffness: Q("N/m**3", gt=0) | None = None
     """Barrier stiffness κ [N/m³]; default: a vertex carrying its share of the weight rests at
     half the thickness plus d̂/2 (``drape.contact.stiffness``)."""
