@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from drape.solvers.linear import DirectSolver, blas_threads
+from drape.solvers.linear import DirectSolver
 from drape.solvers.newmark import (
     ConvergenceError,
     IntegratorInputError,
@@ -17,6 +17,7 @@ from drape.solvers.newmark import (
     default_solver,
 )
 from drape.solvers.newton import NewtonPolicy, newton
+from drape.solvers.time_stepping import stepping
 
 __all__ = ['quasi_static']
 
@@ -99,12 +100,6 @@ def quasi_static(model, load_factors, times=None, state: NewmarkState | None = N
         lam_prev = 0.0
     else:
         lam_prev = float(model.load_scale)
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=lam.size, desc="quasi-static")
-    threads = blas_threads(1)
 
     def solve(lam_k, t_k):
         model.load_scale = lam_k
@@ -117,7 +112,7 @@ def quasi_static(model, load_factors, times=None, state: NewmarkState | None = N
             raise ConvergenceError(_describe(where, tol, result), info)
         return problem.u(result.x), info
 
-    try:
+    with stepping(progress, lam.size, "quasi-static") as bar:
         for i, (lam_i, t_i) in enumerate(zip(lam, ts)):
             pending = [(lam_i, t_i, 0)]
             while pending:
@@ -142,8 +137,4 @@ def quasi_static(model, load_factors, times=None, state: NewmarkState | None = N
                 bar.update(1)
             if on_step is not None and on_step(state, info) is True:
                 break
-    finally:
-        threads.unregister()
-        if bar is not None:
-            bar.close()
     return state

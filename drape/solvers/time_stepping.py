@@ -55,6 +55,8 @@ True
 """
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 import numpy as np
 
 from drape.solvers.linear import DirectSolver, blas_threads
@@ -74,7 +76,25 @@ from drape.solvers.newmark import (
 from drape.solvers.newton import NewtonPolicy
 from drape.solvers.step_control import StepControl, _StepSize
 
-__all__ = ['integrate']
+__all__ = ['integrate', 'stepping']
+
+
+@contextmanager
+def stepping(progress: bool, total: float, desc: str, **bar_options):
+    """The context of a loop of steps: one BLAS thread (:func:`drape.solvers.linear.blas_threads`)
+    and, with ``progress``, a tqdm bar of ``total`` (yielded, else None), closed however the loop ends."""
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=total, desc=desc, **bar_options)
+    threads = blas_threads(1)
+    try:
+        yield bar
+    finally:
+        threads.unregister()
+        if bar is not None:
+            bar.close()
 
 
 def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None, *, beta=None, gamma=None,
@@ -126,13 +146,7 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
     hits = sorted(float(t) for t in hit_times if state.t + eps < t <= t_end - eps)
     step, cuts, rejected = 0, 0, 0
     spent = []      # attempts at the coming step that failed or were refused: their counts join it
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=float(t_end - state.t), unit="s", unit_scale=False, desc="integrate")
-    threads = blas_threads(1)
-    try:
+    with stepping(progress, float(t_end - state.t), "integrate", unit="s", unit_scale=False) as bar:
         while state.t < t_end - eps:
             while hits and hits[0] <= state.t + eps:
                 hits.pop(0)
@@ -171,8 +185,4 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
             info.control = StepControl(size.h, size.successes, size.patience, size.trial)
             if on_step is not None and on_step(state, info) is True:
                 break
-    finally:
-        threads.unregister()
-        if bar is not None:
-            bar.close()
     return state
