@@ -107,3 +107,18 @@ def test_peirce_platform_says_when_the_line_is_not_reached_and_needs_a_platform(
     ctx.model.contact.scene.bodies[0].name = "table"
     with pytest.raises(AnalysisInputError, match="named 'platform'"):
         analysis.probe(ctx, {"displacement": _hinged(mesh, 0.03, 10.0)})
+
+
+def test_grip_study_holds_platform_and_ruler_at_the_given_edge(tmp_path, benchmark_script):
+    """benchmarks/peirce_platform_grip.py: the case at rest keeps the platform case's bodies,
+    fixed (no path), their front edges at the edge asked for, and the overhang beyond it."""
+    from drape.case.case import load_case
+
+    script = benchmark_script("peirce_platform_grip")
+    path, overhang = script._resting_case(0.0063, tmp_path)
+    case = load_case(path)
+    assert overhang == pytest.approx(case.mesh.length - 0.0063)
+    assert [b.name for b in case.contact.body] == ["platform", "ruler"]
+    for body in case.contact.body:
+        assert body.path is None
+        assert body.centre[0] + 0.5 * body.size[0] == pytest.approx(0.0063, abs=1e-12)
