@@ -6,7 +6,8 @@ compared with that of the clamped strip of the same overhang (cases/cantilever.t
 length set to the overhang). Both strips are elastic (no friction moment, no viscosity), so
 the difference is the grip's alone: a clamp turns the strip by nothing at the edge, the
 barrier's grip by the couple it builds over a zone behind the edge. The variants change the
-barrier stiffness, the cells and the contact points inside them (``contact.subdivision``):
+barrier stiffness, the barrier layer's width, the cells and the contact points inside them
+(``contact.subdivision``):
 
     python benchmarks/peirce_platform_grip.py --out out/peirce_grip
     python benchmarks/peirce_platform_grip.py --out out/peirce_grip --only h0.8-n1 h0.4-n3-k2.4e8
@@ -27,14 +28,16 @@ ELASTIC = ["material.friction=false", "material.d=0"]
 
 # name: (cells along the strip, strip width, cells across, subdivision, barrier stiffness
 # [N/m³] or None for the case's own: one vertex's weight share at mid-layer, 2.43e6 with 0.8 mm
-# cells)
+# cells, barrier layer dhat [m] or None for the case's 10 µm)
 VARIANTS = {
-    "h0.8-n1": (28, "0.5cm", 2, 1, None),
-    "h0.8-n1-k2.4e8": (28, "0.5cm", 2, 1, 2.4e8),
-    "h0.4-n3-k2.4e8": (56, "0.2cm", 1, 3, 2.4e8),
-    "h0.2-n1": (112, "0.1cm", 1, 1, None),
-    "h0.2-n1-k2.4e7": (112, "0.1cm", 1, 1, 2.4e7),
-    "h0.2-n1-k2.4e8": (112, "0.1cm", 1, 1, 2.4e8),
+    "h0.8-n1": (28, "0.5cm", 2, 1, None, None),
+    "h0.8-n1-k2.4e8": (28, "0.5cm", 2, 1, 2.4e8, None),
+    "h0.4-n3-k2.4e8": (56, "0.2cm", 1, 3, 2.4e8, None),
+    "h0.2-n1": (112, "0.1cm", 1, 1, None, None),
+    "h0.2-n1-k2.4e7": (112, "0.1cm", 1, 1, 2.4e7, None),
+    "h0.2-n1-k2.4e8": (112, "0.1cm", 1, 1, 2.4e8, None),
+    "h0.2-n1-d2um": (112, "0.1cm", 1, 1, None, 2e-6),
+    "h0.2-n1-d2um-k2.4e8": (112, "0.1cm", 1, 1, 2.4e8, 2e-6),
 }
 
 
@@ -49,18 +52,25 @@ def _run(case: Path, out: Path, overrides) -> None:
         raise SystemExit(f"{case.name}: the run ended with exit code {code}")
 
 
-def _resting_case(edge: float, out: Path) -> tuple[Path, float]:
-    """The platform case with its bodies fixed, their front edges at ``edge``; its overhang."""
+def _resting_case(edge: float, out: Path, dhat: float | None = None) -> tuple[Path, float]:
+    """The platform case with its bodies fixed, their front edges at ``edge``; its overhang.
+
+    With ``dhat`` the barrier layer changes and platform and ruler move apart or together by
+    the change, so the strip still starts in the middle of both layers."""
     from drape.case.case import dump_case, load_case
 
     data = tomllib.loads(dump_case(load_case(ROOT / "cases" / "peirce_platform.toml")))
+    shift = 0.0 if dhat is None else 0.5 * (dhat - data["contact"]["dhat"])
     for body in data["contact"]["body"]:
         body["centre"][0] += edge - (body["centre"][0] + 0.5 * body["size"][0])
+        body["centre"][2] += float(np.sign(body["centre"][2])) * shift   # the platform below, the ruler above
         body.pop("path", None)
+    if dhat is not None:
+        data["contact"]["dhat"] = dhat
     data["solver"]["t_end"] = 1.5                    # at rest by then (the [stop] rule is off)
     data["case"]["name"] = "peirce_platform_at_rest"
     out.mkdir(parents=True, exist_ok=True)
-    path = out / "peirce_platform_at_rest.toml"
+    path = out / f"peirce_platform_at_rest{'' if dhat is None else f'_dhat{dhat:g}'}.toml"
     path.write_text(tomli_w.dumps(data))
     return path, data["mesh"]["length"] - edge
 
@@ -85,12 +95,13 @@ def main(argv=None) -> int:
     parser.add_argument("--only", nargs="+", choices=list(VARIANTS), help="run these variants only")
     args = parser.parse_args(argv)
     out = Path(args.out)
-    case, overhang = _resting_case(args.edge, out)
+    _, overhang = _resting_case(args.edge, out)
     _run(ROOT / "cases" / "cantilever.toml", out / "clamped", ELASTIC + [f"mesh.length={overhang!r}"])
     clamped = json.loads((out / "clamped" / "summary.json").read_text())["analysis"]["chord_angle_deg"]
     rows = []
     for name in args.only or VARIANTS:
-        nx, width, ny, n, kappa = VARIANTS[name]
+        nx, width, ny, n, kappa, dhat = VARIANTS[name]
+        case, _ = _resting_case(args.edge, out, dhat)
         overrides = ELASTIC + [f"mesh.nx={nx}", f"mesh.width={width}", f"mesh.ny={ny}",
                                f"contact.subdivision={n}"]
         overrides += [] if kappa is None else [f"contact.barrier_stiffness={kappa:g}"]
