@@ -63,7 +63,8 @@ def _resting_case(edge: float, out: Path, dhat: float | None = None) -> tuple[Pa
     shift = 0.0 if dhat is None else 0.5 * (dhat - data["contact"]["dhat"])
     for body in data["contact"]["body"]:
         body["centre"][0] += edge - (body["centre"][0] + 0.5 * body["size"][0])
-        body["centre"][2] += float(np.sign(body["centre"][2])) * shift   # the platform below, the ruler above
+        # the platform lies below the strip, the ruler above it
+        body["centre"][2] += float(np.sign(body["centre"][2])) * shift
         body.pop("path", None)
     if dhat is not None:
         data["contact"]["dhat"] = dhat
@@ -83,7 +84,8 @@ def _chord_at_rest(out: Path, edge: float) -> float:
     from drape.analyses.platform_reading import reading
 
     mesh = meshio.read(sorted(out.glob("*.vtu"))[-1])
-    strip = MeshTri(np.ascontiguousarray(mesh.points[:, :2].T), np.ascontiguousarray(mesh.cells_dict["triangle"].T))
+    strip = MeshTri(np.ascontiguousarray(mesh.points[:, :2].T),
+                    np.ascontiguousarray(mesh.cells_dict["triangle"].T))
     return reading(strip, mesh.point_data["displacement"], edge)["chord_angle"]
 
 
