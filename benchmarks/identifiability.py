@@ -50,6 +50,14 @@ def specimens(case: str, point: dict, weight: float, n: int, sets, folder: Path)
     return out
 
 
+def add_forward_options(parser) -> None:
+    """The options an identification benchmark passes on to its forward runs."""
+    parser.add_argument("--seeds", type=int, default=2)
+    parser.add_argument("--workers", type=int, default=None)
+    parser.add_argument("--case", default=str(ROOT / "cases" / "cusick_kes.toml"))
+    parser.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE")
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -58,10 +66,7 @@ def main(argv=None) -> int:
                    help="true points: bending length (cm), 2HB/B (1/cm)")
     p.add_argument("--specimens", type=int, default=3)
     p.add_argument("--evaluations", type=int, default=14)
-    p.add_argument("--seeds", type=int, default=2)
-    p.add_argument("--workers", type=int, default=None)
-    p.add_argument("--case", default=str(ROOT / "cases" / "cusick_kes.toml"))
-    p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE")
+    add_forward_options(p)
     args = p.parse_args(argv)
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     weight = float(load_case(args.case, args.overrides).material.kes.weight)

@@ -39,6 +39,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from drape.identification.cli import main as identify  # noqa: E402
+from identifiability import add_forward_options  # noqa: E402
 from drape.identification.objective import misfit  # noqa: E402
 from drape.identification.store import read_evaluations  # noqa: E402
 
@@ -226,10 +227,7 @@ def main(argv=None) -> int:
                    help="points per fabric once the library has some (default 6)")
     p.add_argument("--first-evaluations", type=int, default=12,
                    help="points of the first fabric, which starts the library (default 12)")
-    p.add_argument("--seeds", type=int, default=2)
-    p.add_argument("--workers", type=int, default=None)
-    p.add_argument("--case", default=str(ROOT / "cases" / "cusick_kes.toml"))
-    p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE")
+    add_forward_options(p)
     args = p.parse_args(argv)
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     args.out.mkdir(parents=True, exist_ok=True)
