@@ -22,6 +22,8 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+#: Both strips without the law's friction moment and viscosity: the supports compared alone.
+ELASTIC = ["material.friction=false", "material.d=0"]
 
 
 def _run(case: str, out: Path, overrides) -> dict:
@@ -46,7 +48,7 @@ def main(argv=None) -> int:
                              "(material.friction=false, material.d=0)")
     args = parser.parse_args(argv)
     out = Path(args.out)
-    both = ["material.friction=false", "material.d=0"] if args.elastic else []
+    both = ELASTIC if args.elastic else []
     platform = _run("peirce_platform.toml", out / "platform", both + args.set)
     clamped = _run("cantilever.toml", out / "clamped", both)
     if not platform.get("reached"):

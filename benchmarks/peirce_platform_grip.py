@@ -15,7 +15,6 @@ barrier stiffness, the barrier layer's width, the cells and the contact points i
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import tomllib
 from pathlib import Path
@@ -24,7 +23,9 @@ import numpy as np
 import tomli_w
 
 ROOT = Path(__file__).resolve().parents[1]
-ELASTIC = ["material.friction=false", "material.d=0"]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from peirce_platform_check import ELASTIC, _run  # noqa: E402
 
 # name: (cells along the strip, strip width, cells across, subdivision, barrier stiffness
 # [N/m³] or None for the case's own: one vertex's weight share at mid-layer, 2.43e6 with 0.8 mm
@@ -39,17 +40,6 @@ VARIANTS = {
     "h0.2-n1-d2um": (112, "0.1cm", 1, 1, None, 2e-6),
     "h0.2-n1-d2um-k2.4e8": (112, "0.1cm", 1, 1, 2.4e8, 2e-6),
 }
-
-
-def _run(case: Path, out: Path, overrides) -> None:
-    from drape.run.runner import main as run
-
-    args = [str(case), "--out", str(out)]
-    for item in overrides:
-        args += ["--set", item]
-    code = run(args)
-    if code != 0:
-        raise SystemExit(f"{case.name}: the run ended with exit code {code}")
 
 
 def _resting_case(edge: float, out: Path, dhat: float | None = None) -> tuple[Path, float]:
@@ -98,8 +88,8 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     out = Path(args.out)
     _, overhang = _resting_case(args.edge, out)
-    _run(ROOT / "cases" / "cantilever.toml", out / "clamped", ELASTIC + [f"mesh.length={overhang!r}"])
-    clamped = json.loads((out / "clamped" / "summary.json").read_text())["analysis"]["chord_angle_deg"]
+    clamped = _run("cantilever.toml", out / "clamped",
+                   ELASTIC + [f"mesh.length={overhang!r}"])["chord_angle_deg"]
     rows = []
     for name in args.only or VARIANTS:
         nx, width, ny, n, kappa, dhat = VARIANTS[name]
@@ -107,7 +97,7 @@ def main(argv=None) -> int:
         overrides = ELASTIC + [f"mesh.nx={nx}", f"mesh.width={width}", f"mesh.ny={ny}",
                                f"contact.subdivision={n}"]
         overrides += [] if kappa is None else [f"contact.barrier_stiffness={kappa:g}"]
-        _run(case, out / name, overrides)
+        _run(str(case), out / name, overrides)          # an absolute path: not under cases/
         rows.append((name, _chord_at_rest(out / name, args.edge)))
     print(f"overhang {100 * overhang:.2f} cm; clamped strip at rest: chord angle {clamped:.3f}°")
     print(f"{'variant':16s} {'chord angle':>12s} {'excess':>8s}")
