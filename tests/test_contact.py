@@ -449,3 +449,36 @@ def test_a_rising_plane_lifts_the_sheet_without_passing_through():
     state = integrate(shell, 0.06, 0.01, initial_state(shell), alpha_hht=-0.3, on_step=record, max_cuts=8)
     assert min(gaps) > 0.5 * THICKNESS                      # never through the moving plane
     assert shell.nodal_displacement(state.u)[:, 2].min() > 0.004    # and carried up with it
+
+
+def test_resting_multiplicity_counts_one_pair_for_a_vertex_over_one_triangle_and_more_on_a_mesh():
+    """One fabric vertex over the middle of one large triangle is one pair: the count is 1.
+    A sheet over a plane triangulated as finely as itself gets several pairs per vertex (its
+    edges over the plane's edges), and the count is the ratio of the force it gets to one
+    pair's at each vertex's distance: scaling κ by it leaves the sheet's weight carried."""
+    import ipctk
+
+    from drape.contact import shapes
+    from drape.contact.stiffness import resting_multiplicity
+
+    d, dhat, dmin = 6e-4, 1e-3, 1e-4
+    x = np.array([[0.0, 0.0, d], [1.0, 0.0, d], [0.0, 1.0, d],      # a fabric triangle
+                  [-5.0, -5.0, 0.0], [10.0, -5.0, 0.0], [-5.0, 10.0, 0.0]])
+    faces = np.array([[0, 1, 2], [3, 4, 5]])
+    mesh = ipctk.CollisionMesh(x, ipctk.edges(faces), faces)
+    # the fabric's own triangle spans 1 m: only its vertices are near the body, each one pair
+    assert resting_multiplicity(mesh, x, 3, dhat, dmin) == pytest.approx(1.0, abs=1e-12)
+
+    cloth = shapes.plane([0, 0, d], [0, 0, 1], 0.1, 8)
+    floor = shapes.plane([0, 0, 0], [0, 0, 1], 0.3, 24)
+    x = np.vstack([cloth.vertices, floor.vertices])
+    faces = np.vstack([cloth.triangles, floor.triangles + len(cloth.vertices)])
+    mesh = ipctk.CollisionMesh(x, ipctk.edges(faces), faces)
+    n = len(cloth.vertices)
+    count = resting_multiplicity(mesh, x, n, dhat, dmin)
+    assert count > 2
+    collisions = ipctk.NormalCollisions()
+    collisions.build(mesh, x, dhat, dmin)
+    kappa = barrier_stiffness(1e-3, dhat, dmin) / count         # 1 mN per vertex
+    force = ipctk.BarrierPotential(dhat, kappa).gradient(collisions, mesh, x).reshape(-1, 3)[:n]
+    assert np.linalg.norm(force, axis=1).sum() == pytest.approx(n * 1e-3, rel=1e-9)

@@ -6,6 +6,8 @@ fabric and checks that the fabric starts clear of every body (and of itself).
 """
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 
 from constitutive.units import G0
@@ -13,7 +15,9 @@ from drape.contact import shapes
 from drape.contact.bodies import ContactInputError, RigidBody, Scene
 from drape.contact.contact import Contact
 from drape.contact.motion import RigidPath
-from drape.contact.stiffness import barrier_stiffness
+from drape.contact.stiffness import barrier_stiffness, resting_multiplicity
+
+log = logging.getLogger(__name__)
 
 __all__ = ["build_contact", "body_surface", "body_triangles_asked", "MAX_CONTACT_TRIANGLES"]
 
@@ -76,7 +80,10 @@ def build_contact(spec, shell, material, u0=None) -> Contact:
 
     The barrier stiffness is the table's, or the one that rests a vertex carrying its share of
     the fabric's weight in the middle of the barrier layer
-    (:func:`drape.contact.stiffness.barrier_stiffness`). Raises ContactInputError (one line)
+    (:func:`drape.contact.stiffness.barrier_stiffness`), divided by the number of pairs' worth
+    of force a vertex resting on a body at the start gets from the body's mesh
+    (:func:`drape.contact.stiffness.resting_multiplicity`): a fabric laid on a table starts at
+    rest instead of being thrown off it. Raises ContactInputError (one line)
     for a body that cannot be built or a fabric that starts inside a body.
     """
     thickness = spec.thickness if spec.thickness is not None else getattr(material, "thickness", None)
@@ -90,7 +97,20 @@ def build_contact(spec, shell, material, u0=None) -> Contact:
         area = float(shell.w.sum())
         kappa = barrier_stiffness(float(material.areal_mass) * G0 * area / len(points), spec.dhat,
                                   0.5 * thickness)
-    contact = Contact(scene, dofs, shell.ndofs, dhat=spec.dhat, stiffness=kappa, thickness=thickness,
-                      eps_v=spec.eps_v, mu_self=spec.mu_self)
-    contact.check_start(np.zeros(shell.ndofs) if u0 is None else u0)
+    u0 = np.zeros(shell.ndofs) if u0 is None else u0
+
+    def contact_with(kappa):
+        return Contact(scene, dofs, shell.ndofs, dhat=spec.dhat, stiffness=kappa, thickness=thickness,
+                       eps_v=spec.eps_v, mu_self=spec.mu_self)
+
+    contact = contact_with(kappa)
+    contact.check_start(u0)
+    if spec.barrier_stiffness is None:
+        # the share is carried by every pair a resting vertex makes with the body's mesh
+        count = resting_multiplicity(scene.mesh, contact.positions(u0, 0.0), scene.n_fabric,
+                                     spec.dhat, 0.5 * thickness)
+        if count > 1.0:
+            log.info("contact: a resting vertex makes %.3g pairs' worth of barrier force; "
+                     "barrier stiffness %.4g N/m³", count, kappa / count)
+            contact = contact_with(kappa / count)
     return contact
