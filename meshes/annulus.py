@@ -25,7 +25,7 @@ from skfem import MeshTri
 from .quality import check_mesh
 from .rectangle import positive, positive_int
 
-__all__ = ["cusick_annulus"]
+__all__ = ["cusick_annulus", "twice_a_prime"]
 
 
 def cusick_annulus(specimen_diameter: float = 0.30, disc_diameter: float = 0.18,
@@ -41,8 +41,11 @@ def cusick_annulus(specimen_diameter: float = 0.30, disc_diameter: float = 0.18,
     n_radial
         Cells across the overhang; default ``ceil(overhang / target_size)``.
     n_circumferential
-        Cells around the circle (even, >= 8); default: the multiple of 4
-        nearest to mid-radius circumference / ``target_size``.
+        Cells around the circle (even, >= 8); default: the number twice a prime
+        nearest to mid-radius circumference / ``target_size`` (:func:`twice_a_prime`).
+        The grid repeats every two sectors and k folds fit it exactly only when k divides
+        the count: 72 sectors favour 2, 3, 4, 6, 8, 9 and 12 folds, 74 = 2 · 37 none from
+        3 to 36.
     target_size
         Nominal element size in metres used for the defaults.
     refine
@@ -86,7 +89,7 @@ def cusick_annulus(specimen_diameter: float = 0.30, disc_diameter: float = 0.18,
     if n_radial is None:
         n_radial = max(1, math.ceil((r_out - r_in) / h - 1e-9))
     if n_circumferential is None:
-        n_circumferential = max(8, 4 * round(math.pi * (r_in + r_out) / h / 4))
+        n_circumferential = twice_a_prime(math.pi * (r_in + r_out) / h)
     nr = positive_int("n_radial", n_radial) * 2**refine
     nc = positive_int("n_circumferential", n_circumferential, minimum=8) * 2**refine
     if nc % 2:
@@ -116,3 +119,19 @@ def cusick_annulus(specimen_diameter: float = 0.30, disc_diameter: float = 0.18,
     })
     check_mesh(mesh, ("disc", "hem"))
     return mesh
+
+
+def twice_a_prime(n: float) -> int:
+    """The even number 2p, p a prime >= 5, nearest to ``n`` (the smaller one on a tie).
+
+    A sector count of 2p is divisible by no fold count between 3 and p - 1, so the
+    polar grid prefers none of them.
+
+    >>> twice_a_prime(75.4), twice_a_prime(8), twice_a_prime(30)
+    (74, 10, 26)
+    """
+    def is_prime(p):
+        return p >= 2 and all(p % q for q in range(2, math.isqrt(p) + 1))
+
+    primes = [p for p in range(5, max(7, int(n) // 2 + 3) * 2) if is_prime(p)]
+    return 2 * min(primes, key=lambda p: (abs(2 * p - n), p))

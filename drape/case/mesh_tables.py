@@ -62,7 +62,8 @@ class CusickMesh(_MeshBase):
     n_radial: int | None = Field(None, ge=1)
     """Element rings across the overhang (default: overhang / target_size)."""
     n_circumferential: int | None = Field(None, ge=8)
-    """Divisions around the circumference, even (default: mid circumference / target_size)."""
+    """Divisions around the circumference, even (default: twice the prime nearest to half of
+    mid circumference / target_size, a grid that favours no fold count)."""
     refine: int = Field(0, ge=0)
     """Uniform refinements (divisions × 2**refine) for convergence studies."""
     radial_grading: float = Field(1.0, ge=1.0)
