@@ -9,7 +9,10 @@ fabric of a scan set, this script
    captures (``benchmarks/scan_descriptors.py``);
 2. runs the KES-only Cusick case (``cases/cusick_kes.toml`` at the scans' 30 cm on 18 cm,
    warp = weft, 2HB/B = 0.5 cm⁻¹, W = 15 mg/cm²) over a grid of B for each friction law,
-   and interpolates log B against DC to the B at which the model's DC is the fabric's;
+   and interpolates log B against DC to the B at which the model's DC is the fabric's
+   (``--match grid``), or, per fabric, takes secant steps in log B from a first B until its
+   run's DC is within ``--tol`` points of the fabric's (``--match secant``, for a case whose
+   DC is not monotonic enough in B to interpolate across fabrics, e.g. the lowered support);
 3. runs the model at that B under several perturbation seeds and compares its node count
    with the fabric's measured range.
 
@@ -17,12 +20,15 @@ Usage::
 
     python benchmarks/nodes_at_matched_dc.py SCANS.npz --out out/matched
     python benchmarks/nodes_at_matched_dc.py SCANS.npz --out out/matched --laws tensor --seeds 3
+    python benchmarks/nodes_at_matched_dc.py SCANS.npz --out out/lowered --case cases/cusick_lowered.toml \
+        --match secant --seeds 2
     python benchmarks/nodes_at_matched_dc.py SCANS.npz --out out/matched_drop --laws tensor \
         --set load.gravity.ramp_time=0.5 --set load.perturbation.duration=0.5
 
 ``SCANS.npz``: registered scans of real Cusick drapes (the format ``scan_descriptors.py``
 reads). Writes ``matched.csv`` and ``matched.md`` (one row per fabric and law),
-``nodes_at_matched_dc.png`` and the sweeps it ran (``grid_<law>/``, ``matched_<law>/``).
+``nodes_at_matched_dc.png`` and the sweeps it ran (``grid_<law>/``, ``matched_<law>/``; with
+``--match secant``: ``secant_<k>/`` and ``seeds/``).
 """
 from __future__ import annotations
 
@@ -45,6 +51,10 @@ LAWS = {"tensor": [], "per_direction": ["model.bending_friction=per_direction"]}
 GRIDS = {"tensor": [0.005 * 2 ** (k / 2) for k in range(13)],            # 0.005 … 0.32
          "per_direction": [0.005 * 2 ** k for k in range(8)]}             # 0.005 … 0.64
 GOOD = ("settled", "completed")
+#: Secant matching: the first B without a start table, and the first step's DC points per
+#: unit of ln B (about 20 between DC 20 and 75 %, BENCHMARKS.md "Folds of real fabrics").
+START_B = 0.05
+SLOPE = 20.0
 
 
 def _finished(records):
@@ -131,6 +141,83 @@ def compare(fabrics, case, laws, seeds: int, out: Path, workers, overrides=()) -
     return table
 
 
+def secant_B(points, target: float, slope: float = SLOPE) -> float:
+    """Next B towards ``target`` from the runs so far, ``points`` = [(B, DC %), ...]: the secant
+    through the last two in log B (its slope kept within [SLOPE/4, 4 SLOPE]), or the first run
+    moved along ``slope`` (DC points per unit of ln B)."""
+    (B1, d1) = points[-1]
+    if len(points) > 1:
+        (B0, d0) = points[-2]
+        if B0 != B1:
+            slope = float(np.clip((d1 - d0) / np.log(B1 / B0), SLOPE / 4, 4 * SLOPE))
+    return float(f"{B1 * np.exp((target - d1) / slope):.4g}")
+
+
+def secant_match(fabrics, case, start: dict, out: Path, workers, overrides, iterations: int,
+                 tol: float) -> dict:
+    """Per fabric, B whose run (seed 0) reaches the fabric's mean DC within ``tol`` points:
+    runs at ``start`` (fabric → B), then secant steps in log B, ``iterations`` sweeps at most
+    (``out/secant_<k>/``). Returns fabric → (B, that run's record) of the run nearest the target."""
+    points = {f["fabric"]: [] for f in fabrics}
+    best, B = {}, {f["fabric"]: float(start.get(f["fabric"], START_B)) for f in fabrics}
+    target = {f["fabric"]: float(f["dc_mean"]) for f in fabrics}
+    todo = list(B)
+    for k in range(iterations):
+        if not todo:
+            break
+        rows = [SweepRow(f"fabric{f}", dict(o.split("=", 1) for o in fabric_keys(B[f]))) for f in todo]
+        sweep(case, rows, out / f"secant_{k}", workers, list(overrides))
+        recs = {r["name"]: r for r in _finished(read_results(out / f"secant_{k}" / "results.csv"))}
+        for f in list(todo):
+            rec = recs.get(f"fabric{f}")
+            if rec is None:                    # stopped: no step from here
+                todo.remove(f)
+                continue
+            dc = float(rec["DC_percent"])
+            points[f].append((B[f], dc))
+            if f not in best or abs(dc - target[f]) < abs(float(best[f][1]["DC_percent"]) - target[f]):
+                best[f] = (B[f], rec)
+            if abs(dc - target[f]) <= tol:
+                todo.remove(f)
+            else:
+                B[f] = secant_B(points[f], target[f])
+    return best
+
+
+def compare_secant(fabrics, case, start: dict, seeds: int, out: Path, workers, overrides=(),
+                   iterations: int = 4, tol: float = 1.5) -> list[dict]:
+    """As :func:`compare` for the first law, B matched by :func:`secant_match`; the matched
+    run is seed 0, seeds 1 … seeds-1 run at the same B (``out/seeds/``)."""
+    best = secant_match(fabrics, case, start, out, workers, overrides, iterations, tol)
+    rows = [SweepRow(f"fabric{f}_s{seed}", dict(o.split("=", 1) for o in fabric_keys(Bm)
+                                                + [f"load.perturbation.seed={seed}"]))
+            for f, (Bm, _) in best.items() for seed in range(1, seeds)]
+    if rows:
+        sweep(case, rows, out / "seeds", workers, list(overrides))
+    recs = _finished(read_results(out / "seeds" / "results.csv")) if rows else []
+    table = []
+    for fab in fabrics:
+        f = fab["fabric"]
+        mine = ([best[f][1]] if f in best else []) + [r for r in recs if r["name"].rsplit("_s", 1)[0] == f"fabric{f}"]
+        nodes = _nodes(mine)
+        lo, hi = int(float(fab["nodes_min"])), int(float(fab["nodes_max"]))
+        table.append({
+            "fabric": f, "law": "tensor", "measured_DC": float(fab["dc_mean"]),
+            "measured_DC_std": float(fab["dc_std"]), "measured_nodes_min": lo,
+            "measured_nodes_max": hi, "measured_nodes_mode": fab.get("nodes_mode", ""),
+            "B_matched": best[f][0] if f in best else None,
+            "model_DC": float(np.mean([float(r["DC_percent"]) for r in mine])) if mine else None,
+            "model_nodes": " ".join(map(str, nodes)),
+            "within": sum(lo <= n <= hi for n in nodes), "runs": len(nodes)})
+    return table
+
+
+def read_start(path) -> dict:
+    """fabric → first B from a CSV with columns ``fabric`` and ``B`` (gf·cm²/cm)."""
+    with open(path, newline="") as fh:
+        return {r["fabric"]: float(r["B"]) for r in csv.DictReader(fh)}
+
+
 def markdown(table: list[dict]) -> str:
     lines = ["| fabric | measured DC % | measured nodes | law | B matched (gf·cm²/cm) | "
              "model DC % | model nodes | in range |", "|---|---|---|---|---|---|---|---|"]
@@ -181,6 +268,13 @@ def main(argv=None) -> int:
                    help="friction laws; the first gets --seeds seeds, the others one")
     p.add_argument("--seeds", type=int, default=3)
     p.add_argument("--case", default=str(ROOT / "cases" / "cusick_kes.toml"))
+    p.add_argument("--match", choices=["grid", "secant"], default="grid",
+                   help="grid: interpolate a grid of B (every law); secant: secant steps in log B "
+                        "per fabric until its run's DC is within --tol of the scans' (first law)")
+    p.add_argument("--start", metavar="CSV", help="secant: first B per fabric (columns fabric, B); "
+                   f"default {START_B} for every fabric")
+    p.add_argument("--iterations", type=int, default=4, help="secant: sweeps at most")
+    p.add_argument("--tol", type=float, default=1.5, help="secant: DC points")
     p.add_argument("--workers", type=int, default=None)
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
                    help="override a case key in every run (e.g. load.gravity.ramp_time=0.5)")
@@ -188,7 +282,13 @@ def main(argv=None) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     fabrics = read_fabrics(args.scans, out)
-    table = compare(fabrics, args.case, args.laws, args.seeds, out, args.workers, args.overrides)
+    if args.match == "secant":
+        start = read_start(args.start) if args.start else {}
+        table = compare_secant(fabrics, args.case, start, args.seeds, out, args.workers,
+                               args.overrides, args.iterations, args.tol)
+        args.laws = args.laws[:1]
+    else:
+        table = compare(fabrics, args.case, args.laws, args.seeds, out, args.workers, args.overrides)
     with open(out / "matched.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, list(table[0]))
         writer.writeheader()
