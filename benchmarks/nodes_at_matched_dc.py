@@ -125,20 +125,27 @@ def compare(fabrics, case, laws, seeds: int, out: Path, workers, overrides=()) -
                                           + [f"load.perturbation.seed={seed}"])))
         sweep(case, rows, out / f"matched_{law}", workers, list(overrides))
         recs = _finished(read_results(out / f"matched_{law}" / "results.csv"))
-        for fab in fabrics:
-            mine = [r for r in recs if r["name"].rsplit("_s", 1)[0] == f"fabric{fab['fabric']}"]
-            nodes = _nodes(mine)
-            lo, hi = int(float(fab["nodes_min"])), int(float(fab["nodes_max"]))
-            table.append({
-                "fabric": fab["fabric"], "law": law, "measured_DC": float(fab["dc_mean"]),
-                "measured_DC_std": float(fab["dc_std"]), "measured_nodes_min": lo,
-                "measured_nodes_max": hi, "measured_nodes_mode": fab.get("nodes_mode", ""),
-                "B_matched": target[fab["fabric"]],
-                "model_DC": (float(np.mean([float(r["DC_percent"]) for r in mine]))
-                             if mine else None),
-                "model_nodes": " ".join(map(str, nodes)),
-                "within": sum(lo <= n <= hi for n in nodes), "runs": len(nodes)})
+        table += [table_row(fab, law, target[fab["fabric"]], _runs_of(recs, fab["fabric"]))
+                  for fab in fabrics]
     return table
+
+
+def _runs_of(recs, fabric) -> list[dict]:
+    """The records of ``fabric``'s seeds (rows named ``fabric<id>_s<seed>``)."""
+    return [r for r in recs if r["name"].rsplit("_s", 1)[0] == f"fabric{fabric}"]
+
+
+def table_row(fab: dict, law: str, B, mine: list[dict]) -> dict:
+    """One fabric's row: its measured DC and node range, the matched B and the model's runs."""
+    nodes = _nodes(mine)
+    lo, hi = int(float(fab["nodes_min"])), int(float(fab["nodes_max"]))
+    return {"fabric": fab["fabric"], "law": law, "measured_DC": float(fab["dc_mean"]),
+            "measured_DC_std": float(fab["dc_std"]), "measured_nodes_min": lo,
+            "measured_nodes_max": hi, "measured_nodes_mode": fab.get("nodes_mode", ""),
+            "B_matched": B,
+            "model_DC": float(np.mean([float(r["DC_percent"]) for r in mine])) if mine else None,
+            "model_nodes": " ".join(map(str, nodes)),
+            "within": sum(lo <= n <= hi for n in nodes), "runs": len(nodes)}
 
 
 def secant_B(points, target: float, slope: float = SLOPE) -> float:
@@ -197,18 +204,9 @@ def compare_secant(fabrics, case, start: dict, seeds: int, out: Path, workers, o
     recs = _finished(read_results(out / "seeds" / "results.csv")) if rows else []
     table = []
     for fab in fabrics:
-        f = fab["fabric"]
-        mine = ([best[f][1]] if f in best else []) + [r for r in recs if r["name"].rsplit("_s", 1)[0] == f"fabric{f}"]
-        nodes = _nodes(mine)
-        lo, hi = int(float(fab["nodes_min"])), int(float(fab["nodes_max"]))
-        table.append({
-            "fabric": f, "law": "tensor", "measured_DC": float(fab["dc_mean"]),
-            "measured_DC_std": float(fab["dc_std"]), "measured_nodes_min": lo,
-            "measured_nodes_max": hi, "measured_nodes_mode": fab.get("nodes_mode", ""),
-            "B_matched": best[f][0] if f in best else None,
-            "model_DC": float(np.mean([float(r["DC_percent"]) for r in mine])) if mine else None,
-            "model_nodes": " ".join(map(str, nodes)),
-            "within": sum(lo <= n <= hi for n in nodes), "runs": len(nodes)})
+        B, matched = best.get(fab["fabric"], (None, None))
+        mine = ([matched] if matched else []) + _runs_of(recs, fab["fabric"])
+        table.append(table_row(fab, "tensor", B, mine))
     return table
 
 

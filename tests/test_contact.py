@@ -157,6 +157,25 @@ def test_contact_state_round_trips():
     assert np.array_equal(contact.forces(u, v, 0.1)[0], c2.forces(u, v, 0.1)[0])
 
 
+
+def test_changing_the_stiffness_is_building_the_contact_with_it():
+    """``set_stiffness`` after a commit: barrier and lagged friction forces as a contact built
+    with that stiffness from the start and committed at the same state."""
+    floor = plane([0.1, 0.1, -0.0012], [0, 0, 1])
+    shell, contact = sheet(bodies=[RigidBody("floor", floor, mu=0.3)])
+    u = np.zeros(shell.ndofs)
+    u[shell.contact_vertices()[2][:, 2]] = -2e-4
+    contact.commit(u, u, 0.1)
+    _, stiffer = sheet(bodies=[RigidBody("floor", floor, mu=0.3)], force_per_vertex=3 * RHO_A * G0 * 0.04 / 25)
+    stiffer.commit(u, u, 0.1)
+    contact.set_stiffness(stiffer.kappa)
+    v = np.ones(shell.ndofs) * 1e-2
+    assert stiffer.kappa == pytest.approx(3 * barrier_stiffness(RHO_A * G0 * 0.04 / 25, DHAT, THICKNESS / 2))
+    assert np.abs(contact.forces(u, v, 0.1)[0]).max() > 0
+    assert np.allclose(contact.forces(u, v, 0.1)[0], stiffer.forces(u, v, 0.1)[0], rtol=1e-12, atol=0)
+    with pytest.raises(ContactInputError, match="must be > 0"):
+        contact.set_stiffness(0.0)
+
 # ---------------------------------------------------------------------------- friction
 
 

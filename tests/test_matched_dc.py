@@ -51,3 +51,13 @@ def test_secant_match_reaches_each_fabric_within_tolerance(benchmark_script, mon
         assert abs(dc_of(B) - float(fab["dc_mean"])) <= 1.5
         assert float(rec["DC_percent"]) == pytest.approx(dc_of(B), abs=1e-3)
     assert len(sweeps) <= 4 and "fabric1" in sweeps[0]
+
+
+def test_table_row_counts_the_runs_within_the_measured_range(benchmark_script):
+    matched = benchmark_script("nodes_at_matched_dc")
+    fab = {"fabric": "5", "dc_mean": "76.7", "dc_std": "2.0", "nodes_min": "7", "nodes_max": "8"}
+    runs = [{"DC_percent": "75.0", "nodes": "8"}, {"DC_percent": "76.0", "nodes": "9"}]
+    row = matched.table_row(fab, "tensor", 0.1377, runs)
+    assert row["model_DC"] == pytest.approx(75.5)
+    assert (row["model_nodes"], row["within"], row["runs"]) == ("8 9", 1, 2)
+    assert matched.table_row(fab, "tensor", None, [])["model_DC"] is None

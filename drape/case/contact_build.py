@@ -98,12 +98,8 @@ def build_contact(spec, shell, material, u0=None) -> Contact:
         kappa = barrier_stiffness(float(material.areal_mass) * G0 * area / len(points), spec.dhat,
                                   0.5 * thickness)
     u0 = np.zeros(shell.ndofs) if u0 is None else u0
-
-    def contact_with(kappa):
-        return Contact(scene, dofs, shell.ndofs, dhat=spec.dhat, stiffness=kappa, thickness=thickness,
-                       eps_v=spec.eps_v, mu_self=spec.mu_self)
-
-    contact = contact_with(kappa)
+    contact = Contact(scene, dofs, shell.ndofs, dhat=spec.dhat, stiffness=kappa, thickness=thickness,
+                      eps_v=spec.eps_v, mu_self=spec.mu_self)
     contact.check_start(u0)
     if spec.barrier_stiffness is None:
         # the share is carried by every pair a resting vertex makes with the body's mesh
@@ -112,5 +108,5 @@ def build_contact(spec, shell, material, u0=None) -> Contact:
         if count > 1.0:
             log.info("contact: a resting vertex makes %.3g pairs' worth of barrier force; "
                      "barrier stiffness %.4g N/m³", count, kappa / count)
-            contact = contact_with(kappa / count)
+            contact.set_stiffness(kappa / count)
     return contact

@@ -229,6 +229,14 @@ class Contact:
                 return f"body {body.name!r}"
         return "itself"
 
+    def set_stiffness(self, stiffness: float) -> None:
+        """Change the barrier stiffness κ [N/m³]; the lagged friction's normal forces follow."""
+        if not (np.isfinite(stiffness) and stiffness > 0):
+            raise ContactInputError(f"contact.stiffness = {stiffness!r} must be > 0")
+        self.kappa = float(stiffness)
+        self.barrier = ipctk.BarrierPotential(self.dhat, self.kappa)
+        self._lag(self._u_lag, self._t_lag)
+
     # ------------------------------------------------------------------ state
     def _lag(self, u_fabric, t: float) -> None:
         """Friction's lagged normal forces and tangent bases at a committed state, with each
