@@ -18,7 +18,12 @@ writes to DIR (default ``out/scan_descriptors``):
   a scan could not be read;
 - ``fabrics.csv``: per fabric, over its scans other than the creep series: number of scans,
   DC mean, standard deviation, min and max, nodes min, max, most frequent and mean;
-- ``creep.csv``: the creep series per fabric and observation: the same columns.
+- ``creep.csv``: the creep series per fabric and observation: the same columns;
+- ``faces.csv``: face up against face down, per fabric over its specimens captured four times
+  (captures 1–2 one face up, 3–4 the other): the mean and standard deviation over specimens of
+  a specimen's DC face down minus face up, and beside it the repeat scatter (half the
+  difference between the two captures of one face, averaged), which that difference must
+  exceed to mean anything.
 
 and prints the two tables.
 """
@@ -91,6 +96,40 @@ def group(rows, key) -> list[dict]:
     return [{**dict(k), **summarise(g)} for k, g in sorted(groups.items())]
 
 
+FACE_COLUMNS = ["fabric", "specimens", "dc_up", "dc_down", "down_minus_up", "down_minus_up_std", "repeat"]
+
+
+def face_pairs(rows) -> list[dict]:
+    """Per fabric, face down against face up over the specimens with all four captures (1–2 one
+    face up, 3–4 the other): mean DC of each face, the mean and standard deviation of a
+    specimen's down − up, and the repeat scatter of one face's two captures (half their
+    difference, averaged).
+
+    >>> rows = [{"fabric": 1, "sample": s, "series": "capture", "number": n, "dc_percent": dc}
+    ...         for s, dcs in ((1, (40, 41, 45, 45)), (2, (42, 42, 46, 48))) for n, dc in zip((1, 2, 3, 4), dcs)]
+    >>> face_pairs(rows)
+    [{'fabric': 1, 'specimens': 2, 'dc_up': 41.25, 'dc_down': 46.0, 'down_minus_up': 4.75, 'down_minus_up_std': 0.35, 'repeat': 0.38}]
+    """
+    captures: dict = {}
+    for r in rows:
+        if r["series"] == "capture":
+            captures.setdefault((r["fabric"], r["sample"]), {})[r["number"]] = r["dc_percent"]
+    per_fabric: dict = {}
+    for (fabric, _), dc in sorted(captures.items()):
+        if all(n in dc for n in (1, 2, 3, 4)):
+            per_fabric.setdefault(fabric, []).append(
+                (0.5 * (dc[1] + dc[2]), 0.5 * (dc[3] + dc[4]), 0.25 * (abs(dc[1] - dc[2]) + abs(dc[3] - dc[4]))))
+    out = []
+    for fabric, pairs in per_fabric.items():
+        up, down, repeat = (np.array(c, dtype=float) for c in zip(*pairs))
+        diff = down - up
+        out.append({"fabric": fabric, "specimens": len(pairs), "dc_up": round(float(up.mean()), 2),
+                    "dc_down": round(float(down.mean()), 2), "down_minus_up": round(float(diff.mean()), 2),
+                    "down_minus_up_std": round(float(diff.std(ddof=1)), 2) if len(diff) > 1 else 0.0,
+                    "repeat": round(float(repeat.mean()), 2)})
+    return out
+
+
 def write_csv(path: Path, rows, columns) -> None:
     with path.open("w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=columns, extrasaction="ignore")
@@ -129,6 +168,9 @@ def main(argv=None) -> int:
     write_csv(args.out / "creep.csv", creep, ["fabric", "obs", *SUMMARY_COLUMNS])
     print_table("fabrics (creep series excluded)", fabrics, ["fabric", *SUMMARY_COLUMNS])
     print_table("creep series", creep, ["fabric", "obs", *SUMMARY_COLUMNS])
+    faces = face_pairs(good)
+    write_csv(args.out / "faces.csv", faces, FACE_COLUMNS)
+    print_table("face down against face up (DC %)", faces, FACE_COLUMNS)
     print(f"{len(good)} of {len(rows)} scans measured; tables in {args.out}")
     return 0 if len(good) == len(rows) else 1
 

@@ -12,7 +12,7 @@ from skfem import MeshTri
 import meshes
 
 from constitutive.units import G0
-from drape.contact.bodies import ContactInputError, RigidBody, Scene
+from drape.contact.bodies import ContactInputError, HalfSpace, RigidBody, Scene
 from drape.contact.contact import Contact
 from drape.contact.stiffness import barrier_stiffness
 from drape.models.shell import ElasticMaterial, KirchhoffLoveShell
@@ -37,6 +37,16 @@ def plane(point, normal, size=3.0):
     if np.dot(np.cross(vertices[1] - vertices[0], vertices[2] - vertices[0]), n) < 0:
         triangles = triangles[:, ::-1]
     return SimpleNamespace(vertices=vertices, triangles=triangles)
+
+
+def flat(kind, name, point, normal=(0, 0, 1), **kw):
+    """A flat body: the two-triangle patch of :func:`plane` or the exact plane of a half-space."""
+    if kind == "patch":
+        return RigidBody(name, plane(point, normal), **kw)
+    return HalfSpace(name, point, normal, **kw)
+
+
+FLAT = pytest.mark.parametrize("kind", ["patch", "half_space"])
 
 
 def sheet(L=0.2, W=0.2, nx=4, ny=4, bodies=(), *, mu_self=0.0, eps_v=1e-3, force_per_vertex=None, **shell_kw):
@@ -64,9 +74,10 @@ def in_plane_dofs(shell):
 # ---------------------------------------------------------------------------- barrier
 
 
-def test_sheet_resting_on_a_plane_carries_its_weight_as_the_contact_reaction():
+@FLAT
+def test_sheet_resting_on_a_plane_carries_its_weight_as_the_contact_reaction(kind):
     z0 = -(0.5 * THICKNESS + 0.7 * DHAT)
-    table = RigidBody("table", plane([0.1, 0.1, z0], [0, 0, 1]))
+    table = flat(kind, "table", [0.1, 0.1, z0])
     shell, contact = sheet(bodies=[table], fixed_dofs=in_plane_dofs(sheet(bodies=[table])[0]))
     state = quasi_static(shell, [1.0], [1.0], rtol=1e-10, du_rtol=1e-10)
     reaction = contact.body_forces(state.u, None, state.t)["table"]
@@ -77,9 +88,10 @@ def test_sheet_resting_on_a_plane_carries_its_weight_as_the_contact_reaction():
     assert gap.min() > 0.5 * THICKNESS and gap.max() < 0.5 * THICKNESS + DHAT
 
 
-def test_fast_falling_sheet_does_not_pass_through_the_plane():
+@FLAT
+def test_fast_falling_sheet_does_not_pass_through_the_plane(kind):
     z0 = -0.02
-    shell, contact = sheet(bodies=[RigidBody("floor", plane([0.1, 0.1, z0], [0, 0, 1]))])
+    shell, contact = sheet(bodies=[flat(kind, "floor", [0.1, 0.1, z0])])
     v0 = np.zeros(shell.ndofs)
     v0[shell.contact_vertices()[2][:, 2]] = -4.0     # vertex values of w: a uniform fall
     dt = 0.02
@@ -94,8 +106,9 @@ def test_fast_falling_sheet_does_not_pass_through_the_plane():
     assert min(gaps) < 0.5 * THICKNESS + DHAT         # ... and it did land on the plane
 
 
-def test_step_cap_of_the_newton_problem_limits_a_step_through_the_plane():
-    shell, contact = sheet(bodies=[RigidBody("floor", plane([0.1, 0.1, -0.01], [0, 0, 1]))])
+@FLAT
+def test_step_cap_of_the_newton_problem_limits_a_step_through_the_plane(kind):
+    shell, contact = sheet(bodies=[flat(kind, "floor", [0.1, 0.1, -0.01])])
     u0 = np.zeros(shell.ndofs)
     u1 = u0.copy()
     u1[shell.contact_vertices()[2][:, 2]] = -0.02
@@ -179,11 +192,11 @@ def test_changing_the_stiffness_is_building_the_contact_with_it():
 # ---------------------------------------------------------------------------- friction
 
 
-def slide_on_incline(tan_theta, mu, t_end=0.25, dt=0.01):
+def slide_on_incline(tan_theta, mu, t_end=0.25, dt=0.01, kind="patch"):
     """A strip on a plane inclined by θ (gravity tilted instead: ``g cos θ`` into the plane,
     ``g sin θ`` along x); its centre of mass's x displacement at each step."""
     theta = np.arctan(tan_theta)
-    floor = RigidBody("floor", plane([0.05, 0.025, -(0.5 * THICKNESS + 0.5 * DHAT)], [0, 0, 1]), mu=mu)
+    floor = flat(kind, "floor", [0.05, 0.025, -(0.5 * THICKNESS + 0.5 * DHAT)], mu=mu)
     pull = RHO_A * G0 * np.sin(theta)
 
     def traction(x):
@@ -201,18 +214,20 @@ def slide_on_incline(tan_theta, mu, t_end=0.25, dt=0.01):
     return np.array(times), np.array(x), theta
 
 
-def test_strip_on_an_incline_slides_with_coulomb_acceleration_above_tan_theta_mu():
+@FLAT
+def test_strip_on_an_incline_slides_with_coulomb_acceleration_above_tan_theta_mu(kind):
     mu = 0.3
-    t, x, theta = slide_on_incline(1.3 * mu, mu)
+    t, x, theta = slide_on_incline(1.3 * mu, mu, kind=kind)
     late = t > 0.05                                        # after the first contact transient
     fit = np.polyfit(t[late], x[late], 2)                  # x = ½ a t² + v t + x0
     expected = G0 * (np.sin(theta) - mu * np.cos(theta))   # Coulomb's sliding block
     assert 2 * fit[0] == pytest.approx(expected, rel=0.02)
 
 
-def test_strip_on_an_incline_sticks_below_tan_theta_mu():
+@FLAT
+def test_strip_on_an_incline_sticks_below_tan_theta_mu(kind):
     mu = 0.3
-    t, x, theta = slide_on_incline(0.8 * mu, mu)
+    t, x, theta = slide_on_incline(0.8 * mu, mu, kind=kind)
     frictionless = 0.5 * G0 * np.sin(theta) * t[-1] ** 2
     assert abs(x[-1]) < 0.01 * frictionless               # IPC's smoothed stick creeps below eps_v only
 
@@ -453,12 +468,13 @@ def test_a_case_with_an_unusable_body_exits_2_with_one_line(tmp_path, capsys, bo
     assert message in err and len(err.splitlines()) == 1
 
 
-def test_a_rising_plane_lifts_the_sheet_without_passing_through():
+@FLAT
+def test_a_rising_plane_lifts_the_sheet_without_passing_through(kind):
     from drape.contact.motion import RigidPath
 
     z0 = -(0.5 * THICKNESS + 0.7 * DHAT)
     lift = RigidPath([0.0, 0.05], [[0, 0, 0], [0, 0, 0.005]])   # 5 mm up in 0.05 s
-    shell, contact = sheet(bodies=[RigidBody("lift", plane([0.1, 0.1, z0], [0, 0, 1]), path=lift)])
+    shell, contact = sheet(bodies=[flat(kind, "lift", [0.1, 0.1, z0], path=lift)])
     gaps = []
 
     def record(state, info):
@@ -501,3 +517,85 @@ def test_resting_multiplicity_counts_one_pair_for_a_vertex_over_one_triangle_and
     kappa = barrier_stiffness(1e-3, dhat, dmin) / count         # 1 mN per vertex
     force = ipctk.BarrierPotential(dhat, kappa).gradient(collisions, mesh, x).reshape(-1, 3)[:n]
     assert np.linalg.norm(force, axis=1).sum() == pytest.approx(n * 1e-3, rel=1e-9)
+
+
+# ---------------------------------------------------------------------------- half-space
+
+
+def test_a_half_space_counts_one_pair_per_resting_vertex_where_a_fine_patch_counts_several():
+    """The same sheet at mid-layer over a plane triangulated as finely as itself and over the
+    exact plane: the half-space pushes each vertex as one pair at its distance (count 1, the
+    barrier's own force), the triangulated one several times over."""
+    from drape.contact import shapes
+    from drape.contact.stiffness import resting_multiplicity
+
+    d = 0.5 * THICKNESS + 0.5 * DHAT
+    cloth = shapes.plane([0, 0, 0], [0, 0, 1], 0.1, 8)
+    n = len(cloth.vertices)
+    dofs = np.arange(3 * n).reshape(n, 3)
+    counts = {}
+    for kind, body in (("mesh", RigidBody("floor", shapes.plane([0, 0, -d], [0, 0, 1], 0.3, 24))),
+                       ("half_space", HalfSpace("floor", [0, 0, -d], [0, 0, 1]))):
+        contact = Contact(Scene(cloth.vertices, cloth.triangles, [body]), dofs, 3 * n, dhat=DHAT,
+                          stiffness=1.0, thickness=THICKNESS)
+        u = np.zeros(3 * n)
+        counts[kind] = resting_multiplicity(contact.scene.mesh, contact.positions(u, 0.0), n, DHAT,
+                                            0.5 * THICKNESS, collisions=contact.collisions(u, 0.0))
+        if kind == "half_space":
+            one = barrier_stiffness(1.0, DHAT, 0.5 * THICKNESS)     # κ of one pair pushing 1 N
+            contact.set_stiffness(one)
+            assert contact.body_forces(u, None, 0.0)["floor"] == pytest.approx([0, 0, -n], rel=1e-9)
+    assert counts["half_space"] == pytest.approx(1.0, abs=1e-12)
+    assert counts["mesh"] > 2
+
+
+def test_a_moving_half_space_is_met_where_its_signed_distance_reaches_half_the_thickness():
+    """CCD against a plane moving along its normal: the vertex and the plane close at known
+    speeds, so the touch is at a fraction computed by hand."""
+    from drape.contact.motion import RigidPath
+
+    up = RigidPath([0.0, 1.0], [[0, 0, 0], [0, 0, 0.004]])     # the plane rises 4 mm over the step
+    shell, contact = sheet(bodies=[HalfSpace("lift", [0, 0, -0.01], [0, 0, 1], path=up)])
+    u0 = np.zeros(shell.ndofs)
+    u1 = u0.copy()
+    u1[shell.contact_vertices()[2][:, 2]] = -0.004                # the sheet falls 4 mm
+    # gap 10 mm - dmin closes at 8 mm per step: first touch at (0.01 - 0.0005) / 0.008 > 1, none
+    assert contact.max_step(u0, u1, 1.0, 0.0) == 1.0
+    u1[shell.contact_vertices()[2][:, 2]] = -0.008
+    # closes at 12 mm per step: touch at 0.0095 / 0.012
+    assert contact.max_step(u0, u1, 1.0, 0.0) == pytest.approx(0.8 * 0.0095 / 0.012, rel=1e-12)
+
+
+@pytest.mark.parametrize("point, normal, path, message", [
+    ([0, 0, 0.01], [0, 0, 1], None, "behind it"),
+    ([0, 0, -1e-4], [0, 0, 1], None, "closer than half its thickness"),
+    ([0, 0, -0.01], [0, 0, 0], None, "normal must not be the zero vector"),
+    ([0, 0, np.nan], [0, 0, 1], None, "NaN"),
+    ([0, 0, -0.01], [0, 0, 1], ([0.0, 1.0], [[0, 0, 0], [0.01, 0, 0]]), "moves along its normal only"),
+])
+def test_bad_half_spaces_are_refused_with_one_line(point, normal, path, message):
+    from drape.contact.motion import RigidPath
+
+    with pytest.raises(ContactInputError, match=message) as err:
+        sheet(bodies=[HalfSpace("floor", point, normal, path=None if path is None else RigidPath(*path))])
+    assert len(str(err.value).splitlines()) == 1
+
+
+def test_a_case_lays_the_fabric_on_a_half_space_and_draws_it(tmp_path, capsys):
+    from drape.run.pictures import contact_bodies
+
+    code, err = run_case_text(tmp_path, """
+[[contact.body]]
+name = "floor"
+shape = "half_space"
+point = [0, 0, "-5 mm"]
+rotation_deg = [0, 0, 30]
+mu = 0.3
+""", capsys)
+    assert code == 0, err
+    history = np.genfromtxt(tmp_path / "out" / "history.csv", delimiter=",", names=True)
+    half = 0.5 * 0.254e-3                                     # half of Fabric 1's thickness
+    assert -0.005 + half < history["uz_min"].min() < -0.004  # on the floor, not through it
+    drawn = contact_bodies(tmp_path / "out")(0.0, extent=0.1)
+    assert len(drawn) == 1 and np.allclose(drawn[0].vertices[:, 2], -0.005)
+    assert np.ptp(drawn[0].vertices[:, 0]) > 0.1             # wider than the fabric

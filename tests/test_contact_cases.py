@@ -67,11 +67,10 @@ def test_cloth_laid_on_a_table_stays_on_it_under_its_full_weight(tmp_path):
 
 
 def test_cusick_specimen_laid_on_its_support_starts_at_rest(tmp_path):
-    """The lowered Cusick case lays the specimen in the middle of the barrier layer on a support
-    whose top is a fan of triangles, under its full weight at once: with the stiffness divided
-    by the pairs a resting vertex makes (33 on this coarse annulus) it stays within the layer
-    until the support moves; with a stiffness only 4 times too high (2e4 N/m³, this mesh's
-    count-free value being 1.5e5) the support throws it 15 mm up in the first step."""
+    """The lowered Cusick case lays the specimen in the middle of the barrier layer on its
+    support, an exact plane (a half-space: one barrier pair per resting vertex, so the stiffness
+    is the per-pair one), under its full weight at once: it stays within the layer until the
+    support moves."""
     assert highest_lift("cusick_lowered", tmp_path, 0.1, "mesh.n_radial=2",
                         "mesh.n_circumferential=22") < 1e-3
 

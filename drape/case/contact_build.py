@@ -12,14 +12,14 @@ import numpy as np
 
 from constitutive.units import G0
 from drape.contact import shapes
-from drape.contact.bodies import ContactInputError, RigidBody, Scene
+from drape.contact.bodies import ContactInputError, HalfSpace, RigidBody, Scene
 from drape.contact.contact import Contact
 from drape.contact.motion import RigidPath
 from drape.contact.stiffness import barrier_stiffness, resting_multiplicity
 
 log = logging.getLogger(__name__)
 
-__all__ = ["build_contact", "body_surface", "body_triangles_asked", "MAX_CONTACT_TRIANGLES"]
+__all__ = ["build_contact", "body_surface", "half_space", "body_triangles_asked", "MAX_CONTACT_TRIANGLES"]
 
 #: Most triangles a body, or the fabric's collision mesh, may have: as for ``[mesh]``
 #: (:data:`drape.case.build.MAX_TRIANGLES`), a slip of a digit is refused before any array is made.
@@ -64,10 +64,19 @@ def body_surface(spec):
     return surface.placed(translation=spec.translation, rotation_deg=spec.rotation_deg, scale=spec.scale)
 
 
-def _body(spec) -> RigidBody:
+def half_space(spec, path=None) -> HalfSpace:
+    """The placed :class:`drape.contact.half_space.HalfSpace` of a ``shape = "half_space"`` table."""
+    linear, shift = shapes.placement(spec.translation, spec.rotation_deg, spec.scale)
+    return HalfSpace(spec.name, linear @ np.asarray(spec.point, dtype=float) + shift,
+                     linear @ np.asarray(spec.normal, dtype=float), spec.mu, path)
+
+
+def _body(spec):
     _check_size(f"contact.body {spec.name!r}", body_triangles_asked(spec), "its resolution")
     try:
         path = None if spec.path is None else RigidPath(spec.path.times, spec.path.translations)
+        if spec.shape == "half_space":
+            return half_space(spec, path)
         return RigidBody(spec.name, body_surface(spec), spec.mu, path)
     except ContactInputError as err:
         raise ContactInputError(f"contact.body {spec.name!r}: {err}") from None
@@ -104,7 +113,7 @@ def build_contact(spec, shell, material, u0=None) -> Contact:
     if spec.barrier_stiffness is None:
         # the share is carried by every pair a resting vertex makes with the body's mesh
         count = resting_multiplicity(scene.mesh, contact.positions(u0, 0.0), scene.n_fabric,
-                                     spec.dhat, 0.5 * thickness)
+                                     spec.dhat, 0.5 * thickness, collisions=contact.collisions(u0, 0.0))
         if count > 1.0:
             log.info("contact: a resting vertex makes %.3g pairs' worth of barrier force; "
                      "barrier stiffness %.4g N/m³", count, kappa / count)

@@ -7,7 +7,7 @@
     dhat = "1 mm"               # barrier layer beyond half the thickness
     [[contact.body]]
     name = "table"
-    shape = "disc"              # plane | sphere | cylinder | box | disc | mesh
+    shape = "disc"              # plane | half_space | sphere | cylinder | box | disc | mesh
     centre = [0, 0, -0.002]
     radius = "9 cm"
     thickness = "1 cm"
@@ -25,7 +25,7 @@ from pydantic import Field, model_validator
 
 from drape.case.quantities import Q, _rule, _Section
 
-__all__ = ["BodyPath", "ContactSpec", "BodySpec", "BODY_SHAPES", "PlaneBody", "SphereBody", "CylinderBody", "BoxBody",
+__all__ = ["BodyPath", "ContactSpec", "BodySpec", "BODY_SHAPES", "PlaneBody", "HalfSpaceBody", "SphereBody", "CylinderBody", "BoxBody",
            "DiscBody", "MeshBody"]
 
 Vector = Annotated[list[Q("m")], Field(min_length=3, max_length=3)]
@@ -77,6 +77,18 @@ class PlaneBody(_Body):
     """Side of the square [m]."""
     resolution: int = Field(4, ge=1)
     """Divisions per side."""
+
+
+class HalfSpaceBody(_Body):
+    """shape = "half_space": the solid behind an exact, unbounded plane (a floor, a support plate
+    larger than the fabric): each fabric vertex meets it in one pair, the same everywhere
+    (``drape.contact.half_space``). It may move along its normal only."""
+
+    shape: Literal["half_space"]
+    point: Vector
+    """A point of the plane [m]."""
+    normal: Direction = [0.0, 0.0, 1.0]
+    """Direction the plane faces (the fabric's side)."""
 
 
 class SphereBody(_Body):
@@ -148,10 +160,10 @@ class MeshBody(_Body):
 
 
 #: The body tables by ``shape``.
-BODY_SHAPES = {"plane": PlaneBody, "sphere": SphereBody, "cylinder": CylinderBody, "box": BoxBody,
+BODY_SHAPES = {"plane": PlaneBody, "half_space": HalfSpaceBody, "sphere": SphereBody, "cylinder": CylinderBody, "box": BoxBody,
                "disc": DiscBody, "mesh": MeshBody}
 
-BodySpec = Annotated[Union[PlaneBody, SphereBody, CylinderBody, BoxBody, DiscBody, MeshBody],
+BodySpec = Annotated[Union[PlaneBody, HalfSpaceBody, SphereBody, CylinderBody, BoxBody, DiscBody, MeshBody],
                      Field(discriminator="shape")]
 
 

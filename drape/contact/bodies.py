@@ -4,7 +4,9 @@ The fabric's vertices come first (their positions follow the shell's vertex-valu
 bodies' after them (prescribed: a body's triangulated surface moved along its rigid path).
 The ipctk :class:`ipctk.CollisionMesh` holds all of them; a collision filter keeps bodies from
 colliding with one another and, unless self-contact is on, the fabric from colliding with
-itself (neighbouring primitives are excluded by ipctk from the topology).
+itself (neighbouring primitives are excluded by ipctk from the topology). Half-spaces
+(:class:`drape.contact.half_space.HalfSpace`) have no vertices: the scene hands their
+plane–vertex candidates to the collision set (:meth:`Scene.plane_candidates`).
 """
 from __future__ import annotations
 
@@ -15,12 +17,14 @@ import ipctk
 import numpy as np
 
 from .errors import ContactInputError
+from .motion import OnPath
+from .half_space import HalfSpace
 
-__all__ = ["RigidBody", "Scene", "ContactInputError"]
+__all__ = ["RigidBody", "HalfSpace", "Scene", "ContactInputError"]
 
 
 @dataclass(frozen=True)
-class RigidBody:
+class RigidBody(OnPath):
     """A rigid obstacle: a triangulated surface, its friction with the fabric and its path.
 
     Parameters
@@ -56,13 +60,6 @@ class RigidBody:
         if not (np.isfinite(self.mu) and self.mu >= 0):
             raise ContactInputError(f"body {self.name!r}: mu = {self.mu!r} must be >= 0")
 
-    def offset(self, t: float) -> np.ndarray:
-        """Translation [m] of the body at time ``t``."""
-        return np.zeros(3) if self.path is None else np.asarray(self.path.offset(t), dtype=float)
-
-    def velocity(self, t: float) -> np.ndarray:
-        """Velocity [m/s] of the body at time ``t``."""
-        return np.zeros(3) if self.path is None else np.asarray(self.path.velocity(t), dtype=float)
 
 
 class Scene:
@@ -74,7 +71,7 @@ class Scene:
         The fabric's reference vertex positions [m].
     triangles : ndarray of int, shape (m, 3)
         The fabric's triangles.
-    bodies : sequence of RigidBody
+    bodies : sequence of RigidBody or HalfSpace
     self_contact : bool
         Let the fabric collide with itself (primitives sharing a vertex never do).
 
@@ -99,7 +96,10 @@ class Scene:
         self.self_contact = bool(self_contact)
         vertices, faces, owner = [points], [triangles], [np.full(len(points), -1)]
         start = len(points)
-        for k, body in enumerate(self.bodies):
+        #: the bodies with a surface, and the half-spaces, each with its index in ``bodies``
+        self.meshed = [(k, b) for k, b in enumerate(self.bodies) if not isinstance(b, HalfSpace)]
+        self.half_spaces = [(k, b) for k, b in enumerate(self.bodies) if isinstance(b, HalfSpace)]
+        for k, body in self.meshed:
             v = np.asarray(body.surface.vertices, dtype=float)
             vertices.append(v)
             faces.append(np.asarray(body.surface.triangles, dtype=np.int32) + start)
@@ -123,12 +123,12 @@ class Scene:
 
     def body_displacements(self, t: float) -> np.ndarray:
         """Displacement (n_body_vertices, 3) of every body vertex at ``t``."""
-        rows = [np.broadcast_to(b.offset(t), (len(b.surface.vertices), 3)) for b in self.bodies]
+        rows = [np.broadcast_to(b.offset(t), (len(b.surface.vertices), 3)) for _, b in self.meshed]
         return np.vstack(rows) if rows else np.zeros((0, 3))
 
     def body_velocities(self, t: float) -> np.ndarray:
         """Velocity (n_body_vertices, 3) of every body vertex at ``t``."""
-        rows = [np.broadcast_to(b.velocity(t), (len(b.surface.vertices), 3)) for b in self.bodies]
+        rows = [np.broadcast_to(b.velocity(t), (len(b.surface.vertices), 3)) for _, b in self.meshed]
         return np.vstack(rows) if rows else np.zeros((0, 3))
 
     def positions(self, fabric_displacement, t: float) -> np.ndarray:
@@ -142,3 +142,26 @@ class Scene:
         """Velocities (n, 3) of all collision-mesh vertices."""
         return np.vstack([np.asarray(fabric_velocity, dtype=float).reshape(-1, 3),
                           self.body_velocities(t)])
+
+    def plane_candidates(self, x, t: float, reach: float, which=None) -> list:
+        """ipctk plane–vertex candidates of the fabric's vertices (rows of ``x``) closer than
+        ``reach`` to the half-spaces at ``t`` (``which``: the index in ``bodies`` of one of them)."""
+        fabric = np.asarray(x)[:self.n_fabric]
+        return [c for k, b in self.half_spaces if which in (None, k) for c in b.candidates(fabric, t, reach)]
+
+    def plane_step(self, x0, t0: float, x1, t1: float, dmin: float) -> float:
+        """Fraction of the straight step from ``x0`` to ``x1`` at which a fabric vertex first
+        comes within ``dmin`` of a half-space (1: none does)."""
+        fractions = [b.first_touch(np.asarray(x0)[:self.n_fabric], t0, np.asarray(x1)[:self.n_fabric], t1, dmin)
+                     for _, b in self.half_spaces]
+        return float(min((f.min() for f in fractions if f.size), default=1.0))
+
+    def half_space_of(self, plane, t: float) -> int:
+        """Index in ``bodies`` of the half-space whose plane at ``t`` is ``plane`` (an
+        ``ipctk.Hyperplane`` of a plane–vertex pair)."""
+        normal, offset = np.asarray(plane.normal()), float(plane.offset())
+        for k, b in self.half_spaces:
+            here = b.hyperplane(t)
+            if np.allclose(normal, here.normal(), atol=1e-12) and abs(offset - here.offset()) <= 1e-12:
+                return k
+        raise ValueError("a plane-vertex pair whose plane is no half-space of the scene")

@@ -112,10 +112,24 @@ class Contact:
         """Positions of every collision vertex: the fabric at ``u``, the bodies at ``t``."""
         return self.scene.positions(self.fabric_values(u), t)
 
-    def _collisions(self, x) -> ipctk.NormalCollisions:
+    def _collisions(self, x, t: float, which=None) -> ipctk.NormalCollisions:
+        """The pairs closer than ``dmin + dhat`` at ``x`` (bodies at ``t``); ``which``: only
+        those of the half-space with that index in the scene's bodies."""
         collisions = ipctk.NormalCollisions()
-        collisions.build(self.scene.mesh, x, self.dhat, self.dmin)
+        if not self.scene.half_spaces:
+            collisions.build(self.scene.mesh, x, self.dhat, self.dmin)
+            return collisions
+        candidates = ipctk.Candidates()
+        if which is None:
+            # boxes grown by half the reach on every side overlap for every pair within reach
+            candidates.build(self.scene.mesh, x, 0.5 * (self.dhat + self.dmin))
+        candidates.pv_candidates = self.scene.plane_candidates(x, t, self.dhat + self.dmin, which)
+        collisions.build(candidates, self.scene.mesh, x, self.dhat, self.dmin)
         return collisions
+
+    def collisions(self, u, t: float) -> ipctk.NormalCollisions:
+        """The contact pairs (ipctk) of the fabric at ``u`` with the bodies at ``t``, and itself."""
+        return self._collisions(self.positions(u, t), t)
 
     # ------------------------------------------------------------------ forces
     def forces(self, u, v, t: float, weights=None):
@@ -131,7 +145,7 @@ class Contact:
         """
         mesh = self.scene.mesh
         x = self.positions(u, t)
-        collisions = self._collisions(x)
+        collisions = self._collisions(x, t)
         force = np.zeros(self.ndofs)
         parts = []
         if len(collisions):
@@ -175,22 +189,35 @@ class Contact:
 
     def body_forces(self, u, v, t: float) -> dict:
         """Force [N] the fabric exerts on each body (barrier and friction), by name."""
-        mesh = self.scene.mesh
         x = self.positions(u, t)
-        collisions = self._collisions(x)
+        w = None if v is None else self.scene.velocities(self.fabric_values(v), t)
+        g = self._gradient(self._collisions(x, t), self._lagged, x, w)
+        owner = self.scene.body_of_vertex
+        forces = {b.name: -g[owner == k].sum(axis=0) for k, b in self.scene.meshed}
+        x_lag = self.scene.positions(self._u_lag, self._t_lag)
+        for k, b in self.scene.half_spaces:
+            # a half-space has no vertices: what pushes its pairs' fabric vertices pushes it back
+            lagged = ipctk.TangentialCollisions()
+            if b.mu > 0:
+                lagged.build(self.scene.mesh, x_lag, self._collisions(x_lag, self._t_lag, k), self.barrier, b.mu)
+            g = self._gradient(self._collisions(x, t, k), lagged, x, w)
+            forces[b.name] = g[:self.scene.n_fabric].sum(axis=0)
+        return forces
+
+    def _gradient(self, collisions, lagged, x, w) -> np.ndarray:
+        """Barrier gradient of ``collisions`` at ``x`` plus friction gradient of ``lagged`` at
+        the velocities ``w`` (None: no friction), per collision vertex (n, 3)."""
         g = np.zeros(x.shape)
         if len(collisions):
-            g += self.barrier.gradient(collisions, mesh, x).reshape(-1, 3)
-        if v is not None and not self._lagged.empty():
-            w = self.scene.velocities(self.fabric_values(v), t)
-            g += self.friction.gradient(self._lagged, mesh, w).reshape(-1, 3)
-        owner = self.scene.body_of_vertex
-        return {b.name: -g[owner == k].sum(axis=0) for k, b in enumerate(self.scene.bodies)}
+            g += self.barrier.gradient(collisions, self.scene.mesh, x).reshape(-1, 3)
+        if w is not None and not lagged.empty():
+            g += self.friction.gradient(lagged, self.scene.mesh, w).reshape(-1, 3)
+        return g
 
     def energy(self, u, t: float) -> float:
         """The barrier potential [J] at ``u``."""
         x = self.positions(u, t)
-        collisions = self._collisions(x)
+        collisions = self._collisions(x, t)
         return float(self.barrier(collisions, self.scene.mesh, x)) if len(collisions) else 0.0
 
     # ------------------------------------------------------------------ steps
@@ -199,10 +226,16 @@ class Contact:
         default ``t``) to ``u1`` (bodies at ``t``): 1 when no pair comes closer than ``dmin``,
         else :data:`CCD_FRACTION` times the fraction at first touch (0 when not even the
         start is safe)."""
-        x0 = self.positions(u0, t if t0 is None else t0)
-        x1 = self.positions(u1, t)
-        alpha = ipctk.compute_collision_free_stepsize(self.scene.mesh, x0, x1, self.dmin, None, self._ccd)
-        return min(1.0, float(alpha))
+        t0 = t if t0 is None else t0
+        x0, x1 = self.positions(u0, t0), self.positions(u1, t)
+        alpha = min(1.0, float(ipctk.compute_collision_free_stepsize(self.scene.mesh, x0, x1, self.dmin, None,
+                                                                     self._ccd)))
+        if self.scene.half_spaces:
+            # the planes move between t0 and t, which ipctk's static-plane CCD does not know
+            touch = self.scene.plane_step(x0, t0, x1, t, self.dmin)
+            if touch < 1.0:
+                alpha = min(alpha, CCD_FRACTION * touch)
+        return alpha
 
     def check_start(self, u, t: float = 0.0) -> None:
         """Refuse a start where the fabric intersects a body or itself, or lies closer than
@@ -211,7 +244,13 @@ class Contact:
         if ipctk.has_intersections(self.scene.mesh, x):
             raise ContactInputError(f"contact: the fabric starts intersecting {self._intersected(x)}; "
                                     "move the body or the fabric apart")
-        collisions = self._collisions(x)
+        for _, b in self.scene.half_spaces:
+            d = float(b.signed_distance(x[:self.scene.n_fabric], t).min())
+            if d <= self.dmin:
+                raise ContactInputError(f"contact: the fabric starts {d:.3g} m from the plane of body {b.name!r}, "
+                                        f"{'behind it' if d < 0 else 'closer than half its thickness'} "
+                                        f"({self.dmin:.3g} m); move them apart")
+        collisions = self._collisions(x, t)
         if len(collisions):
             d = np.sqrt(max(collisions.compute_minimum_distance(self.scene.mesh, x), 0.0))
             if d <= self.dmin:
@@ -222,7 +261,7 @@ class Contact:
         """Which body (or the fabric itself) the fabric intersects at ``x``, in words."""
         n = self.scene.n_fabric
         fabric = x[:n]
-        for k, body in enumerate(self.scene.bodies):
+        for k, body in self.scene.meshed:
             fabric_faces = self.scene.faces[np.all(self.scene.faces < n, axis=1)]
             alone = Scene(self.scene.rest[:n], fabric_faces, [body])
             if ipctk.has_intersections(alone.mesh, np.vstack([fabric, x[n:][self.scene.body_of_vertex[n:] == k]])):
@@ -244,13 +283,16 @@ class Contact:
         mesh = self.scene.mesh
         x = self.scene.positions(u_fabric, t)
         self._lagged = ipctk.TangentialCollisions()
-        collisions = self._collisions(x)
+        collisions = self._collisions(x, t)
         if not len(collisions) or not np.any(self._mu > 0):
             return
         self._lagged.build(mesh, x, collisions, self.barrier, 0.0)
         owner = self.scene.body_of_vertex
         for i in range(len(self._lagged)):
             pair = self._lagged[i]
+            if isinstance(pair, ipctk.PlaneVertexTangentialCollision):
+                pair.mu_s = pair.mu_k = self._mu[self.scene.half_space_of(pair.plane, t)]
+                continue
             ids = [j for j in pair.vertex_ids(mesh.edges, mesh.faces) if j >= 0]
             body = owner[ids].max()
             pair.mu_s = pair.mu_k = self._mu[body]   # body -1 (fabric alone): the last, mu_self

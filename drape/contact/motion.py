@@ -21,7 +21,7 @@ import numpy as np
 
 from .errors import ContactInputError
 
-__all__ = ["RigidPath"]
+__all__ = ["RigidPath", "OnPath"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -81,3 +81,17 @@ class RigidPath:
         if i == 0 or i == len(self.times):
             return np.zeros(3)
         return (self.translations[i] - self.translations[i - 1]) / (self.times[i] - self.times[i - 1])
+
+
+class OnPath:
+    """Where a body following its ``path`` attribute (a :class:`RigidPath`; None: still) is."""
+
+    path = None
+
+    def offset(self, t: float) -> np.ndarray:
+        """Translation [m] of the body at time ``t``."""
+        return np.zeros(3) if self.path is None else np.asarray(self.path.offset(t), dtype=float)
+
+    def velocity(self, t: float) -> np.ndarray:
+        """Velocity [m/s] of the body at time ``t``."""
+        return np.zeros(3) if self.path is None else np.asarray(self.path.velocity(t), dtype=float)

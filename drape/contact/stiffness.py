@@ -39,7 +39,7 @@ def barrier_stiffness(force_per_vertex: float, dhat: float, dmin: float = 0.0) -
 
 
 def resting_multiplicity(mesh, x, n_fabric: int, dhat: float, dmin: float = 0.0,
-                         min_share: float = 0.1) -> float:
+                         min_share: float = 0.1, collisions=None) -> float:
     """How many times over IPC's barrier counts a fabric vertex resting on a body's mesh.
 
     A vertex lying over a triangulated surface is one point–triangle pair closer than
@@ -64,6 +64,9 @@ def resting_multiplicity(mesh, x, n_fabric: int, dhat: float, dmin: float = 0.0,
         Barrier layer and minimum distance [m].
     min_share : float
         Share of the fabric's vertices that must rest on a body for a count.
+    collisions : ipctk.NormalCollisions, optional
+        The pairs at ``x`` (with the plane–vertex pairs of half-spaces, which count one each);
+        default: built from ``mesh``.
 
     Examples
     --------
@@ -79,15 +82,17 @@ def resting_multiplicity(mesh, x, n_fabric: int, dhat: float, dmin: float = 0.0,
     >>> resting_multiplicity(mesh, x, len(cloth.vertices), dhat=1e-3, dmin=1e-4) > 2
     True
     """
-    collisions = ipctk.NormalCollisions()
-    collisions.build(mesh, x, dhat, dmin)
+    if collisions is None:
+        collisions = ipctk.NormalCollisions()
+        collisions.build(mesh, x, dhat, dmin)
     edges, faces = mesh.edges, mesh.faces
     d2 = np.full(n_fabric, np.inf)
     # a vertex's own distance to a body: to a triangle, or to an edge or a vertex it lies over
     points = ([(p, p.vertex_id, faces[p.face_id]) for p in collisions.fv_collisions]
               + [(p, p.vertex_id, edges[p.edge_id]) for p in collisions.ev_collisions]
               + [(p, min(p.vertex0_id, p.vertex1_id), [max(p.vertex0_id, p.vertex1_id)])
-                 for p in collisions.vv_collisions])
+                 for p in collisions.vv_collisions]
+              + [(p, p.vertex_id, [n_fabric]) for p in collisions.pv_collisions])
     for pair, v, other in points:
         if v < n_fabric and min(other) >= n_fabric:
             d2[v] = min(d2[v], pair.compute_distance(pair.dof(x, edges, faces)))

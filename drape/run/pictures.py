@@ -99,7 +99,10 @@ def default_field(names: list[str]) -> str:
 
 def contact_bodies(directory):
     """The run's rigid contact bodies (``[[contact.body]]`` of its ``case.resolved.toml``) as a
-    function of time giving their surfaces where their paths put them; None without any."""
+    function of time giving their surfaces where their paths put them; None without any.
+
+    A half-space is drawn as a square of its plane, :data:`HALF_SPACE_DRAWN` times the
+    ``extent`` the function is given (the fabric's size; default 1 m) on a side."""
     path = Path(directory) / "case.resolved.toml"
     if not path.is_file():
         return None
@@ -111,15 +114,30 @@ def contact_bodies(directory):
         case = load_case(path)
         if case.contact is None or not case.contact.body:
             return None
-        placed = [(body_surface(b), None if b.path is None else RigidPath(b.path.times, b.path.translations))
+        placed = [(b, None if b.shape == "half_space" else body_surface(b),
+                   None if b.path is None else RigidPath(b.path.times, b.path.translations))
                   for b in case.contact.body]
     except (CaseError, ContactInputError, OSError):
         return None          # the picture goes without the bodies rather than not at all
 
-    def at(t):
-        return [s if p is None else s.placed(translation=p.offset(t)) for s, p in placed]
+    def at(t, extent=1.0):
+        surfaces = [s if s is not None else _half_space_patch(b, HALF_SPACE_DRAWN * extent) for b, s, _ in placed]
+        return [s if p is None else s.placed(translation=p.offset(t)) for s, (_, _, p) in zip(surfaces, placed)]
 
     return at
+
+
+#: A half-space is drawn as a square this many times the fabric's size on a side.
+HALF_SPACE_DRAWN = 1.5
+
+
+def _half_space_patch(spec, size):
+    """A square of a half-space's plane, centred at its placed ``point``."""
+    from drape.case.contact_build import half_space
+    from drape.contact import shapes
+
+    body = half_space(spec)
+    return shapes.plane(body.point, body.normal, size, resolution=1)
 
 
 def render_step(directory, field: str | None = None, step: int = -1, out=None,
@@ -157,7 +175,8 @@ def render_step(directory, field: str | None = None, step: int = -1, out=None,
     plotter.add_mesh(grid.extract_feature_edges(boundary_edges=True, feature_edges=False,
                                                 manifold_edges=False),
                      color="grey", opacity=0.4, line_width=1)   # reference outline
-    for surface in (bodies(t) if bodies is not None else ()):
+    extent = float(max(np.ptp(np.asarray(grid.points)[:, :2], axis=0).max(), 1e-3))
+    for surface in (bodies(t, extent) if bodies is not None else ()):
         plotter.add_mesh(surface.to_polydata(), color="lightgrey", smooth_shading=True,
                          split_sharp_edges=True)
     plotter.add_text(f"{pvd.stem}  t = {t:.4g} s  (step {index})", font_size=10)
