@@ -26,7 +26,8 @@ ROOT = Path(__file__).resolve().parents[1]
 ELASTIC = ["material.friction=false", "material.d=0"]
 
 
-def _run(case: str, out: Path, overrides) -> dict:
+def run_shipped_case(case: str, out: Path, overrides) -> dict:
+    """Run the shipped case ``case`` into ``out`` with ``--set`` overrides; its analysis summary."""
     from drape.run.runner import main as run
 
     args = [str(ROOT / "cases" / case), "--out", str(out)]
@@ -49,8 +50,8 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     out = Path(args.out)
     both = ELASTIC if args.elastic else []
-    platform = _run("peirce_platform.toml", out / "platform", both + args.set)
-    clamped = _run("cantilever.toml", out / "clamped", both)
+    platform = run_shipped_case("peirce_platform.toml", out / "platform", both + args.set)
+    clamped = run_shipped_case("cantilever.toml", out / "clamped", both)
     if not platform.get("reached"):
         print(f"the platform strip never reached the line (largest chord angle "
               f"{platform['max_chord_angle_deg']:.1f}°)")

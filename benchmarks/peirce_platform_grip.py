@@ -25,7 +25,7 @@ import tomli_w
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from peirce_platform_check import ELASTIC, _run  # noqa: E402
+from peirce_platform_check import ELASTIC, run_shipped_case  # noqa: E402
 
 # name: (cells along the strip, strip width, cells across, subdivision, barrier stiffness
 # [N/m³] or None for the case's own: one vertex's weight share at mid-layer, 2.43e6 with 0.8 mm
@@ -88,7 +88,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     out = Path(args.out)
     _, overhang = _resting_case(args.edge, out)
-    clamped = _run("cantilever.toml", out / "clamped",
+    clamped = run_shipped_case("cantilever.toml", out / "clamped",
                    ELASTIC + [f"mesh.length={overhang!r}"])["chord_angle_deg"]
     rows = []
     for name in args.only or VARIANTS:
@@ -97,7 +97,7 @@ def main(argv=None) -> int:
         overrides = ELASTIC + [f"mesh.nx={nx}", f"mesh.width={width}", f"mesh.ny={ny}",
                                f"contact.subdivision={n}"]
         overrides += [] if kappa is None else [f"contact.barrier_stiffness={kappa:g}"]
-        _run(str(case), out / name, overrides)          # an absolute path: not under cases/
+        run_shipped_case(str(case), out / name, overrides)          # an absolute path: not under cases/
         rows.append((name, _chord_at_rest(out / name, args.edge)))
     print(f"overhang {100 * overhang:.2f} cm; clamped strip at rest: chord angle {clamped:.3f}°")
     print(f"{'variant':16s} {'chord angle':>12s} {'excess':>8s}")

@@ -68,11 +68,15 @@ class ShellContact:
         return Evaluation(ev.inertia, ev.force + force, self.contact.add_tangent(ev.K, k_block),
                           self.contact.add_tangent(ev.C, c_block), ev.M)
 
-    def max_step(self, u0, u1, t, t0=None) -> float:
-        """Safe fraction in (0, 1] of the step from ``u0`` to ``u1`` (1 without contact):
-        continuous collision detection (:meth:`drape.contact.contact.Contact.max_step`)."""
-        if self.contact is None:
-            return 1.0
+    @property
+    def max_step(self):
+        """``max_step(u0, u1, t, t0=None)``: the safe fraction in (0, 1] of the step from ``u0``
+        to ``u1`` by continuous collision detection
+        (:meth:`drape.contact.contact.Contact.max_step`); None without contact, so that the
+        step problems, for which the method is optional, do not build fields to cap nothing."""
+        return None if self.contact is None else self._max_step
+
+    def _max_step(self, u0, u1, t, t0=None) -> float:
         start = time.perf_counter()
         cap = self.contact.max_step(u0, u1, t, t0)
         self.seconds["contact"] += time.perf_counter() - start
