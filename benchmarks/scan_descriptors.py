@@ -107,8 +107,9 @@ def face_pairs(rows) -> list[dict]:
 
     >>> rows = [{"fabric": 1, "sample": s, "series": "capture", "number": n, "dc_percent": dc}
     ...         for s, dcs in ((1, (40, 41, 45, 45)), (2, (42, 42, 46, 48))) for n, dc in zip((1, 2, 3, 4), dcs)]
-    >>> face_pairs(rows)
-    [{'fabric': 1, 'specimens': 2, 'dc_up': 41.25, 'dc_down': 46.0, 'down_minus_up': 4.75, 'down_minus_up_std': 0.35, 'repeat': 0.38}]
+    >>> face_pairs(rows)  # doctest: +NORMALIZE_WHITESPACE
+    [{'fabric': 1, 'specimens': 2, 'dc_up': 41.25, 'dc_down': 46.0, 'down_minus_up': 4.75,
+      'down_minus_up_std': 0.35, 'repeat': 0.38}]
     """
     captures: dict = {}
     for r in rows:

@@ -462,6 +462,9 @@ mu = 0.3
     # a slip of a digit is refused before any array is made (it would fill the memory)
     ('shape = "sphere"\ncentre = [0.05, 0.05, -1.0]\nradius = "2 cm"\nresolution = 2147483648',
      "triangles asked for, more than 100,000; check its resolution"),
+    ('shape = "half_space"\npoint = [0, 0, "-5 mm"]\npath = { times = [0, 1], translations = [[0, 0, 0], [0.01, 0, 0]] }',
+     "contact.body 'b': a half-space moves along its normal only"),
+    ('shape = "half_space"\npoint = [0, 0, "1 mm"]', "from the plane of body 'b', behind it"),
 ])
 def test_a_case_with_an_unusable_body_exits_2_with_one_line(tmp_path, capsys, body, message):
     code, err = run_case_text(tmp_path, f'[[contact.body]]\nname = "b"\n{body}\n', capsys)

@@ -78,10 +78,9 @@ def _body(spec):
         if spec.shape == "half_space":
             return half_space(spec, path)
         return RigidBody(spec.name, body_surface(spec), spec.mu, path)
-    except ContactInputError as err:
-        raise ContactInputError(f"contact.body {spec.name!r}: {err}") from None
-    except (OSError, ValueError) as err:     # a file that is missing or not a surface
-        raise ContactInputError(f"contact.body {spec.name!r}: {err}") from None
+    except (ContactInputError, OSError, ValueError) as err:     # OSError: a file missing or not a surface
+        said = str(err).removeprefix(f"body {spec.name!r}: ")     # the body's own checks name it too
+        raise ContactInputError(f"contact.body {spec.name!r}: {said}") from None
 
 
 def build_contact(spec, shell, material, u0=None) -> Contact:

@@ -25,8 +25,8 @@ from pydantic import Field, model_validator
 
 from drape.case.quantities import Q, _rule, _Section
 
-__all__ = ["BodyPath", "ContactSpec", "BodySpec", "BODY_SHAPES", "PlaneBody", "HalfSpaceBody", "SphereBody", "CylinderBody", "BoxBody",
-           "DiscBody", "MeshBody"]
+__all__ = ["BodyPath", "ContactSpec", "BodySpec", "BODY_SHAPES", "PlaneBody", "HalfSpaceBody", "SphereBody",
+           "CylinderBody", "BoxBody", "DiscBody", "MeshBody"]
 
 Vector = Annotated[list[Q("m")], Field(min_length=3, max_length=3)]
 """x, y, z [m] (each may carry units)."""
@@ -160,8 +160,8 @@ class MeshBody(_Body):
 
 
 #: The body tables by ``shape``.
-BODY_SHAPES = {"plane": PlaneBody, "half_space": HalfSpaceBody, "sphere": SphereBody, "cylinder": CylinderBody, "box": BoxBody,
-               "disc": DiscBody, "mesh": MeshBody}
+BODY_SHAPES = {"plane": PlaneBody, "half_space": HalfSpaceBody, "sphere": SphereBody, "cylinder": CylinderBody,
+               "box": BoxBody, "disc": DiscBody, "mesh": MeshBody}
 
 BodySpec = Annotated[Union[PlaneBody, HalfSpaceBody, SphereBody, CylinderBody, BoxBody, DiscBody, MeshBody],
                      Field(discriminator="shape")]

@@ -17,8 +17,8 @@ import ipctk
 import numpy as np
 
 from .errors import ContactInputError
-from .motion import OnPath
 from .half_space import HalfSpace
+from .motion import OnPath
 
 __all__ = ["RigidBody", "HalfSpace", "Scene", "ContactInputError"]
 
@@ -59,7 +59,6 @@ class RigidBody(OnPath):
             raise ContactInputError(f"body {self.name!r}: a triangle names a vertex that does not exist")
         if not (np.isfinite(self.mu) and self.mu >= 0):
             raise ContactInputError(f"body {self.name!r}: mu = {self.mu!r} must be >= 0")
-
 
 
 class Scene:
