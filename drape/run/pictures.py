@@ -107,37 +107,30 @@ def contact_bodies(directory):
     if not path.is_file():
         return None
     from drape.case.case import CaseError, load_case
-    from drape.case.contact_build import body_surface
-    from drape.contact import ContactInputError, RigidPath
+    from drape.case.contact_build import body_surface, half_space
+    from drape.contact import ContactInputError, RigidPath, shapes
+    from drape.contact.half_space import HalfSpace
 
     try:
         case = load_case(path)
         if case.contact is None or not case.contact.body:
             return None
-        placed = [(b, None if b.shape == "half_space" else body_surface(b),
+        placed = [(half_space(b) if b.shape == "half_space" else body_surface(b),
                    None if b.path is None else RigidPath(b.path.times, b.path.translations))
                   for b in case.contact.body]
     except (CaseError, ContactInputError, OSError):
         return None          # the picture goes without the bodies rather than not at all
 
     def at(t, extent=1.0):
-        surfaces = [s if s is not None else _half_space_patch(b, HALF_SPACE_DRAWN * extent) for b, s, _ in placed]
-        return [s if p is None else s.placed(translation=p.offset(t)) for s, (_, _, p) in zip(surfaces, placed)]
+        surfaces = [shapes.plane(s.point, s.normal, HALF_SPACE_DRAWN * extent, resolution=1)
+                    if isinstance(s, HalfSpace) else s for s, _ in placed]
+        return [s if p is None else s.placed(translation=p.offset(t)) for s, (_, p) in zip(surfaces, placed)]
 
     return at
 
 
 #: A half-space is drawn as a square this many times the fabric's size on a side.
 HALF_SPACE_DRAWN = 1.5
-
-
-def _half_space_patch(spec, size):
-    """A square of a half-space's plane, centred at its placed ``point``."""
-    from drape.case.contact_build import half_space
-    from drape.contact import shapes
-
-    body = half_space(spec)
-    return shapes.plane(body.point, body.normal, size, resolution=1)
 
 
 def render_step(directory, field: str | None = None, step: int = -1, out=None,
