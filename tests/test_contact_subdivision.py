@@ -98,7 +98,9 @@ def test_subdivision_one_gives_exactly_the_vertex_selection():
     H = H.tocoo()
     old = sp.csr_matrix((H.data, (dofs.ravel()[H.row], dofs.ravel()[H.col])), shape=(shell.ndofs,) * 2)
     new = sp.csr_matrix((values, (rows, cols)), shape=(shell.ndofs,) * 2)
-    assert (old != new).nnz == 0
+    # ipctk sums the pairs' Hessians in parallel threads, so two builds may add in another order:
+    # equal to round-off, not bit for bit
+    assert abs(old - new).max() <= 1e-12 * abs(old).max()
 
 
 def test_sheet_resting_on_a_plane_with_subdivision_two_carries_its_weight():
