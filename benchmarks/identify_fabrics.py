@@ -109,13 +109,15 @@ def run_fabric(number: int, parts: dict, args, out: Path, first: bool) -> dict:
 
     folder = out / f"fabric{number:02d}"
     t0 = time.perf_counter()
-    budget = args.first_evaluations if first else args.evaluations
+    stored = folder / "identify.json"     # a resumed fabric keeps the budget it started with
+    budget = (json.loads(stored.read_text())["evaluations"] if stored.exists()
+              else args.first_evaluations if first else args.evaluations)
     argv = [*map(str, parts["train"]), "--base", args.case, "--out", str(folder),
             "--evaluations", str(budget), "--seeds", str(args.seeds),
             "--library", str(out / "library"), "--quiet"]
     argv += ["--workers", str(args.workers)] if args.workers else []
     argv += sum((["--set", s] for s in args.overrides), [])
-    if (folder / "identify.json").exists():
+    if stored.exists():
         argv.append("--resume")
     code = identify(argv)
     if code in (130, 143):              # stopped: the next call continues it (--resume)
@@ -222,18 +224,19 @@ def main(argv=None) -> int:
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("scans", type=Path, help="registered scans (.npz)")
     p.add_argument("--out", type=Path, default=Path("out/identify_fabrics"))
-    p.add_argument("--fabrics", type=int, nargs="+", help="fabric numbers (default: all)")
+    p.add_argument("--fabrics", type=int, nargs="+",
+                   help="fabric numbers, run in this order (default: all, in numbers' order)")
     p.add_argument("--evaluations", type=int, default=6,
                    help="points per fabric once the library has some (default 6)")
     p.add_argument("--first-evaluations", type=int, default=12,
-                   help="points of the first fabric, which starts the library (default 12)")
+                   help="points of a fabric that starts an empty library (default 12)")
     add_forward_options(p)
     args = p.parse_args(argv)
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     args.out.mkdir(parents=True, exist_ok=True)
     fabrics = split(write_scans(args.scans, args.out / "scans"))
-    if args.fabrics:
-        fabrics = {k: v for k, v in fabrics.items() if k in args.fabrics}
+    if args.fabrics:                    # in the order given: the fabrics wanted first run first
+        fabrics = {k: fabrics[k] for k in args.fabrics if k in fabrics}
     table = args.out / "fabrics.csv"
     done = {}
     if table.exists():
@@ -243,7 +246,8 @@ def main(argv=None) -> int:
     for number, parts in fabrics.items():
         if number in done:
             continue
-        row = run_fabric(number, parts, args, args.out, first=number == min(fabrics))
+        started = bool(read_evaluations(args.out / "library"))
+        row = run_fabric(number, parts, args, args.out, first=not started)
         rows.append(row)
         new = not table.exists()
         with open(table, "a", newline="") as fh:

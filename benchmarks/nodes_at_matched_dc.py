@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import sys
 from pathlib import Path
 
@@ -57,8 +58,11 @@ START_B = 0.05
 SLOPE = 20.0
 
 
-def _finished(records):
-    return [r for r in records if r.get("status") in GOOD and r.get("DC_percent")]
+def _finished(folder: Path):
+    """The finished runs of the sweep in ``folder``, their ``run_dir`` made absolute."""
+    records = read_results(folder / "results.csv")
+    return [{**r, "run_dir": str(folder / r["run_dir"]) if r.get("run_dir") else ""}
+            for r in records if r.get("status") in GOOD and r.get("DC_percent")]
 
 
 def dc_curve(case, law: str, out: Path, workers, overrides) -> tuple[np.ndarray, np.ndarray]:
@@ -66,7 +70,7 @@ def dc_curve(case, law: str, out: Path, workers, overrides) -> tuple[np.ndarray,
     rows = [SweepRow(f"B{B:.5g}", {**dict(o.split("=", 1) for o in fabric_keys(B) + LAWS[law])})
             for B in GRIDS[law]]
     sweep(case, rows, out, workers, overrides)
-    recs = _finished(read_results(out / "results.csv"))
+    recs = _finished(out)
     B = np.array([float(r["material.kes.B_warp"]) for r in recs])
     dc = np.array([float(r["DC_percent"]) for r in recs])
     order = np.argsort(B)
@@ -124,7 +128,7 @@ def compare(fabrics, case, laws, seeds: int, out: Path, workers, overrides=()) -
                                      dict(o.split("=", 1) for o in keys
                                           + [f"load.perturbation.seed={seed}"])))
         sweep(case, rows, out / f"matched_{law}", workers, list(overrides))
-        recs = _finished(read_results(out / f"matched_{law}" / "results.csv"))
+        recs = _finished(out / f"matched_{law}")
         table += [table_row(fab, law, target[fab["fabric"]], _runs_of(recs, fab["fabric"]))
                   for fab in fabrics]
     return table
@@ -135,17 +139,34 @@ def _runs_of(recs, fabric) -> list[dict]:
     return [r for r in recs if r["name"].rsplit("_s", 1)[0] == f"fabric{fabric}"]
 
 
+def _irregularity_mm(recs) -> float | None:
+    """Mean outline irregularity (mm) of the runs, from their summary.json (None if absent)."""
+    from drape.analyses.outline import outline_irregularity
+
+    values = []
+    for r in recs:
+        path = Path(r.get("run_dir") or "") / "summary.json"
+        if r.get("run_dir") and path.exists():
+            a = json.loads(path.read_text())["analysis"]
+            values.append(outline_irregularity(a["outline_harmonics_m"], a["n_nodes"]))
+    return round(1e3 * float(np.mean(values)), 2) if values else None
+
+
 def table_row(fab: dict, law: str, B, mine: list[dict]) -> dict:
-    """One fabric's row: its measured DC and node range, the matched B and the model's runs."""
+    """One fabric's row: its measured DC, node range and outline irregularity, the matched B
+    and the model's runs."""
     nodes = _nodes(mine)
     lo, hi = int(float(fab["nodes_min"])), int(float(fab["nodes_max"]))
+    measured_irregularity = fab.get("irregularity_mm")
     return {"fabric": fab["fabric"], "law": law, "measured_DC": float(fab["dc_mean"]),
             "measured_DC_std": float(fab["dc_std"]), "measured_nodes_min": lo,
             "measured_nodes_max": hi, "measured_nodes_mode": fab.get("nodes_mode", ""),
             "B_matched": B,
             "model_DC": float(np.mean([float(r["DC_percent"]) for r in mine])) if mine else None,
             "model_nodes": " ".join(map(str, nodes)),
-            "within": sum(lo <= n <= hi for n in nodes), "runs": len(nodes)}
+            "within": sum(lo <= n <= hi for n in nodes), "runs": len(nodes),
+            "measured_irregularity_mm": float(measured_irregularity) if measured_irregularity else None,
+            "model_irregularity_mm": _irregularity_mm(mine)}
 
 
 def secant_B(points, target: float, slope: float = SLOPE) -> float:
@@ -174,7 +195,7 @@ def secant_match(fabrics, case, start: dict, out: Path, workers, overrides, iter
             break
         rows = [SweepRow(f"fabric{f}", dict(o.split("=", 1) for o in fabric_keys(B[f]))) for f in todo]
         sweep(case, rows, out / f"secant_{k}", workers, list(overrides))
-        recs = {r["name"]: r for r in _finished(read_results(out / f"secant_{k}" / "results.csv"))}
+        recs = {r["name"]: r for r in _finished(out / f"secant_{k}")}
         for f in list(todo):
             rec = recs.get(f"fabric{f}")
             if rec is None:                    # stopped: no step from here
@@ -201,7 +222,7 @@ def compare_secant(fabrics, case, start: dict, seeds: int, out: Path, workers, o
             for f, (Bm, _) in best.items() for seed in range(1, seeds)]
     if rows:
         sweep(case, rows, out / "seeds", workers, list(overrides))
-    recs = _finished(read_results(out / "seeds" / "results.csv")) if rows else []
+    recs = _finished(out / "seeds") if rows else []
     table = []
     for fab in fabrics:
         B, matched = best.get(fab["fabric"], (None, None))
@@ -218,13 +239,16 @@ def read_start(path) -> dict:
 
 def markdown(table: list[dict]) -> str:
     lines = ["| fabric | measured DC % | measured nodes | law | B matched (gf·cm²/cm) | "
-             "model DC % | model nodes | in range |", "|---|---|---|---|---|---|---|---|"]
+             "model DC % | model nodes | in range | irregularity mm, measured / model |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for r in table:
         B = "off grid" if r["B_matched"] is None else f"{r['B_matched']:.4g}"
         dc = "–" if r["model_DC"] is None else f"{r['model_DC']:.1f}"
+        irregular = " / ".join("–" if r.get(k) is None else f"{r[k]:.1f}"
+                               for k in ("measured_irregularity_mm", "model_irregularity_mm"))
         lines.append(f"| {r['fabric']} | {r['measured_DC']:.1f} ± {r['measured_DC_std']:.1f} | "
                      f"{r['measured_nodes_min']}–{r['measured_nodes_max']} | {r['law']} | {B} | "
-                     f"{dc} | {r['model_nodes']} | {r['within']} of {r['runs']} |")
+                     f"{dc} | {r['model_nodes']} | {r['within']} of {r['runs']} | {irregular} |")
     return "\n".join(lines)
 
 

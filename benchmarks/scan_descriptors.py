@@ -14,10 +14,12 @@ disc, centre from the flat top, the node detection of the simulated drape) and t
 writes to DIR (default ``out/scan_descriptors``):
 
 - ``scans.csv``: key, fabric, sample, series (capture / obs) and its number, DC %, nodes,
-  mean fold depth, the centre used, the harmonic amplitudes a_0 .. a_20 (mm), or the reason
-  a scan could not be read;
+  mean fold depth, the outline's irregularity (mm: its harmonics outside the fold pattern,
+  :func:`drape.analyses.outline.outline_irregularity`), the centre used, the harmonic
+  amplitudes a_0 .. a_20 (mm), or the reason a scan could not be read;
 - ``fabrics.csv``: per fabric, over its scans other than the creep series: number of scans,
-  DC mean, standard deviation, min and max, nodes min, max, most frequent and mean;
+  DC mean, standard deviation, min and max, nodes min, max, most frequent and mean, mean
+  irregularity;
 - ``creep.csv``: the creep series per fabric and observation: the same columns;
 - ``faces.csv``: face up against face down, per fabric over its specimens captured four times
   (captures 1–2 one face up, 3–4 the other): the mean and standard deviation over specimens of
@@ -45,7 +47,7 @@ from drape.analyses.scan import ScanError
 KEY = re.compile(r"fabric(?P<fabric>\d+)_sample(?P<sample>\d+)"
                  r"(?:_(?P<series>capture|obs)(?P<n>\d+))?$")
 SUMMARY_COLUMNS = ["scans", "dc_mean", "dc_std", "dc_min", "dc_max",
-                   "nodes_min", "nodes_max", "nodes_mode", "nodes_mean"]
+                   "nodes_min", "nodes_max", "nodes_mode", "nodes_mean", "irregularity_mm"]
 
 
 def scan_keys(data) -> list[str]:
@@ -69,6 +71,7 @@ def describe_scan(data, key: str, unit: float) -> dict:
     s = m.result.summary()
     row.update(dc_percent=round(s["drape_coefficient_percent"], 3), nodes=s["n_nodes"],
                depth_mm=round(1e3 * s["node_depth_mean_m"], 3),
+               irregularity_mm=round(1e3 * s["outline_irregularity_m"], 3),
                centre_x_mm=round(1e3 * m.result.centre[0], 3),
                centre_y_mm=round(1e3 * m.result.centre[1], 3))
     row.update({f"a{k}_mm": round(1e3 * a, 4) for k, a in enumerate(s["outline_harmonics_m"])})
@@ -85,7 +88,8 @@ def summarise(rows) -> dict:
             "dc_std": round(float(dc.std(ddof=1)), 2) if len(dc) > 1 else 0.0,
             "dc_min": round(float(dc.min()), 2), "dc_max": round(float(dc.max()), 2),
             "nodes_min": min(nodes), "nodes_max": max(nodes), "nodes_mode": mode,
-            "nodes_mean": round(float(np.mean(nodes)), 2)}
+            "nodes_mean": round(float(np.mean(nodes)), 2),
+            "irregularity_mm": round(float(np.mean([r["irregularity_mm"] for r in rows])), 2)}
 
 
 def group(rows, key) -> list[dict]:
@@ -161,6 +165,7 @@ def main(argv=None) -> int:
     harmonics = [f"a{k}_mm" for k in range(N_HARMONICS + 1)]
     write_csv(args.out / "scans.csv", rows,
               ["key", "fabric", "sample", "series", "number", "dc_percent", "nodes", "depth_mm",
+               "irregularity_mm",
                "centre_x_mm", "centre_y_mm", *harmonics, "error"])
     fabrics = group([r for r in good if r["series"] != "obs"], lambda r: {"fabric": r["fabric"]})
     creep = group([r for r in good if r["series"] == "obs"],

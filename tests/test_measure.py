@@ -13,7 +13,7 @@ import pytest
 import shapely
 
 from drape.analyses.scan_measure import length_m, main, measure_scan, measure_surface
-from drape.analyses.outline import outline_harmonics
+from drape.analyses.outline import outline_harmonics, outline_irregularity
 from drape.analyses.scan import ScanError, find_disc_top
 
 R, RD = 0.15, 0.09  # 30 cm specimen on an 18 cm disc
@@ -83,6 +83,7 @@ def test_lobed_hem_gives_its_dc_nodes_and_harmonic():
     assert a[0] == pytest.approx(R0, abs=1e-4)
     others = np.delete(a[1:], N - 1)
     assert others.max() < 2e-3 * A
+    assert s["outline_irregularity_m"] < 2e-3 * A     # equal folds, evenly spaced
 
 
 def test_harmonics_of_a_cosine_and_invariance_to_turning_the_outline():
@@ -94,6 +95,21 @@ def test_harmonics_of_a_cosine_and_invariance_to_turning_the_outline():
     np.testing.assert_allclose(outline_harmonics(np.roll(r, 137)), a, atol=1e-15)
     with pytest.raises(ValueError, match="more than 40 samples"):
         outline_harmonics(r[:40])
+
+
+def test_irregularity_ignores_the_folds_shape_and_measures_what_departs_from_it():
+    """Folds of any (non-sinusoidal) shape, all alike, are regular; departures at harmonics
+    that are not the pattern's add up as a root-sum-square, wherever the folds sit."""
+    phi = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    folds = 0.13 - 0.02 * np.abs(np.cos(3.5 * phi)) ** 3          # 7 sharp-crested folds
+    a = outline_harmonics(folds)
+    assert a[14] > 1e-3                                            # overtones of the pattern...
+    assert outline_irregularity(a, 7) < 1e-8   # ...are not irregularity (the crests alias: 2e-10)
+    bumps = 0.003 * np.cos(2 * phi + 0.5) + 0.004 * np.cos(5 * phi + 1.0)
+    rough = folds + bumps + 0.006 * np.cos(phi)                    # and an offset, left out
+    assert outline_irregularity(outline_harmonics(rough), 7) == pytest.approx(0.005, rel=1e-12)
+    assert outline_irregularity(outline_harmonics(np.roll(rough, 101)), 7) == pytest.approx(
+        0.005, rel=1e-12)
 
 
 @pytest.mark.parametrize("angle", [0.4, 2.0 * np.pi / 7 + 0.123, 3.0])

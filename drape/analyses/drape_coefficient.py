@@ -41,7 +41,7 @@ import numpy as np
 import shapely
 from scipy.signal import find_peaks
 
-from drape.analyses.outline import outline_harmonics
+from drape.analyses.outline import outline_harmonics, outline_irregularity
 
 __all__ = ["CusickError", "CusickResult", "shadow_polygon", "boundary_radius", "find_nodes",
            "drape_coefficient", "skirt_tension", "drape_analysis", "plot_top_view", "cusick_post"]
@@ -312,7 +312,9 @@ class CusickResult:
 
     def summary(self) -> dict:
         """JSON-ready scalars: DC, node count, depths (m), angles (deg) and the outline's
-        harmonic amplitudes ``a_0 .. a_20`` (m, :func:`drape.analyses.outline.outline_harmonics`)."""
+        harmonic amplitudes ``a_0 .. a_20`` (m, :func:`drape.analyses.outline.outline_harmonics`)
+        and what of them lies outside the fold pattern (m, :func:`~drape.analyses.outline.outline_irregularity`)."""
+        harmonics = outline_harmonics(self.radius)
         return {
             "drape_coefficient": self.drape_coefficient,
             "drape_coefficient_percent": 100.0 * self.drape_coefficient,
@@ -323,7 +325,8 @@ class CusickResult:
             "shadow_area_m2": float(self.shadow.area),
             "outline_radius_min_m": float(self.radius.min()),
             "outline_radius_max_m": float(self.radius.max()),
-            "outline_harmonics_m": [float(a) for a in outline_harmonics(self.radius)],
+            "outline_harmonics_m": [float(a) for a in harmonics],
+            "outline_irregularity_m": outline_irregularity(harmonics, self.n_nodes),
             **self.extra,
         }
 
