@@ -6,6 +6,7 @@ depend on nothing but the contact core.
 from types import SimpleNamespace
 
 import numpy as np
+import scipy.sparse as sp
 import pytest
 from skfem import MeshTri
 
@@ -170,6 +171,29 @@ def test_contact_state_round_trips():
     v = np.ones(shell.ndofs) * 1e-2
     assert np.array_equal(contact.forces(u, v, 0.1)[0], c2.forces(u, v, 0.1)[0])
 
+
+def test_stiffness_and_damping_are_the_weighted_tangents_parts():
+    """One set of pairs gives the force and the barrier's and friction's tangents apart; the
+    weighted tangent ``c_K K + c_C C`` is their sum (ipctk adds the pairs in parallel: equal to
+    round-off)."""
+    floor = plane([0.1, 0.1, -0.0012], [0, 0, 1])
+    shell, contact = sheet(bodies=[RigidBody("floor", floor, mu=0.3)])
+    u = np.zeros(shell.ndofs)
+    u[shell.contact_vertices()[2][:, 2]] = -2e-4
+    contact.commit(u, u, 0.1)
+    v = np.ones(shell.ndofs) * 1e-2
+
+    def dense(coords):
+        rows, cols, values = coords
+        return sp.coo_matrix((values, (rows, cols)), shape=(shell.ndofs,) * 2).toarray()
+
+    force, K, C = contact.stiffness_and_damping(u, v, 0.1)
+    weighted_force, weighted = contact.forces(u, v, 0.1, (2.0, 0.5))
+    K, C = dense(K), dense(C)
+    assert np.abs(K).max() > 0 and np.abs(C).max() > 0                # both parts present
+    scale = np.abs(2.0 * K + 0.5 * C).max()
+    np.testing.assert_allclose(dense(weighted), 2.0 * K + 0.5 * C, rtol=0, atol=1e-12 * scale)
+    np.testing.assert_allclose(weighted_force, force, rtol=0, atol=1e-12 * np.abs(force).max())
 
 
 def test_changing_the_stiffness_is_building_the_contact_with_it():

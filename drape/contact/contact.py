@@ -38,6 +38,14 @@ CCD_FRACTION = 0.8
 _PSD = ipctk.PSDProjectionMethod.CLAMP
 
 
+def _coordinates(block):
+    """A sparse block as (rows, cols, values) coordinates; empty for None."""
+    if block is None:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0)
+    block = block.tocoo()
+    return block.row.astype(np.int64), block.col.astype(np.int64), block.data
+
+
 class Contact:
     """Contact of a fabric (its collision vertices) with the bodies of a scene, and with itself.
 
@@ -143,26 +151,38 @@ class Contact:
         tangent : (rows, cols, values) or None
             ``c_K Pᵀ ∇²B P + c_C Pᵀ ∇²D P`` as coordinates in the dofs (PSD-projected Hessians).
         """
+        if weights is None:
+            return self._terms(u, v, t, False, False)[0], None
+        c_K, c_C = weights
+        force, barrier, friction = self._terms(u, v, t, c_K != 0.0, c_C != 0.0)
+        parts = [c * H for c, H in ((c_K, barrier), (c_C, friction)) if H is not None]
+        return force, _coordinates(sum(parts[1:], parts[0]) if parts else None)
+
+    def stiffness_and_damping(self, u, v, t: float):
+        """Contact force and its two tangents apart, from one set of pairs: the barrier's
+        ``Pᵀ ∇²B P`` (a stiffness) and the friction's ``Pᵀ ∇²D P`` (a damping, in velocity),
+        each as coordinates in the dofs."""
+        force, barrier, friction = self._terms(u, v, t, True, True)
+        return force, _coordinates(barrier), _coordinates(friction)
+
+    def _terms(self, u, v, t: float, barrier_tangent: bool, friction_tangent: bool):
+        """The force, and the barrier's and the friction's fabric blocks (CSR; None when not
+        asked for or without pairs)."""
         mesh = self.scene.mesh
         x = self.positions(u, t)
         collisions = self._collisions(x, t)
         force = np.zeros(self.ndofs)
-        parts = []
+        barrier = friction = None
         if len(collisions):
             force += self._Pt @ self.barrier.gradient(collisions, mesh, x)[:self._m]
-            if weights is not None and weights[0] != 0.0:
-                parts.append(weights[0] * self._fabric_block(self.barrier.hessian(collisions, mesh, x, _PSD)))
+            if barrier_tangent:
+                barrier = self._fabric_block(self.barrier.hessian(collisions, mesh, x, _PSD))
         if not self._lagged.empty():
             w = self.scene.velocities(self.fabric_values(v), t)
             force += self._Pt @ self.friction.gradient(self._lagged, mesh, w)[:self._m]
-            if weights is not None and weights[1] != 0.0:
-                parts.append(weights[1] * self._fabric_block(self.friction.hessian(self._lagged, mesh, w, _PSD)))
-        if weights is None:
-            return force, None
-        if not parts:
-            return force, (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))
-        block = sum(parts[1:], parts[0]).tocoo()
-        return force, (block.row.astype(np.int64), block.col.astype(np.int64), block.data)
+            if friction_tangent:
+                friction = self._fabric_block(self.friction.hessian(self._lagged, mesh, w, _PSD))
+        return force, barrier, friction
 
     def _fabric_block(self, H):
         """``Pᵀ H P`` of the fabric vertices' block of a collision-mesh Hessian (bodies are

@@ -63,8 +63,7 @@ class ShellContact:
         if weights is not None:
             force, block = self.contact.forces(u, v, t, (weights[0], weights[1]))
             return Evaluation(ev.inertia, ev.force + force, J=self.contact.add_tangent(ev.J, block))
-        force, k_block = self.contact.forces(u, v, t, (1.0, 0.0))
-        _, c_block = self.contact.forces(u, v, t, (0.0, 1.0))
+        force, k_block, c_block = self.contact.stiffness_and_damping(u, v, t)
         return Evaluation(ev.inertia, ev.force + force, self.contact.add_tangent(ev.K, k_block),
                           self.contact.add_tangent(ev.C, c_block), ev.M)
 
