@@ -21,6 +21,7 @@ from drape.case.contact_build import build_contact
 from drape.case.loads import kes_curvature, load_amplitudes
 from drape.models.perturbation import FoldPerturbation, perturbation_dofs
 from drape.models.plate import KirchhoffPlate, pure_bending_rotations
+from drape.models.rigidity import RigidityVariation
 from drape.models.shell import KirchhoffLoveShell
 from drape.solvers.linear import DirectSolver
 from drape.solvers.newton import NewtonPolicy
@@ -219,10 +220,19 @@ def build_model(case: Case, mesh, material):
                               friction_tangent=spec.friction_tangent,
                               viscous_tangent=spec.viscous_tangent,
                               bending_friction=spec.bending_friction,
+                              rigidity_factor=rigidity_variation(spec.rigidity_variation),
                               drag_coefficient=spec.damping.drag_coefficient, **kwargs)
     if case.contact is not None:
         shell.attach_contact(build_contact(case.contact, shell, material))
     return shell
+
+
+def rigidity_variation(spec):
+    """The ``[model.rigidity_variation]`` field (``drape.models.rigidity.RigidityVariation``) or None."""
+    if spec is None:
+        return None
+    return RigidityVariation(cv=spec.cv, correlation_length=float(spec.correlation_length),
+                             seed=spec.seed)
 
 
 def fold_perturbation(case: Case):

@@ -60,6 +60,20 @@ class CaseInfo(_Section):
 # --------------------------------------------------------------------------- [mesh]
 
 
+class RigidityVariationSpec(_Section):
+    """[model.rigidity_variation]: the specimen's bending rigidity varying from place to place,
+    a seeded log-normal field of mean 1 on the bending moment (elastic and friction together,
+    so 2HB/B stays; drape/models/rigidity.py); large kinematics only."""
+
+    cv: float = Field(ge=0, le=1)
+    """Coefficient of variation of the rigidity over the specimen (KES-FB B of neighbouring
+    strips: 0.05–0.15)."""
+    correlation_length: Q("m", gt=0)
+    """Length ℓ over which the rigidity stays alike, e.g. "2 cm"."""
+    seed: int = Field(0, ge=0)
+    """Seed of the field: another seed, another specimen."""
+
+
 class Damping(_Section):
     """[model.damping]: Rayleigh damping C = (alpha + air_drag / areal mass) M + beta K0
     (added to the law's own d), or with drag_coefficient still air's quadratic drag."""
@@ -147,6 +161,10 @@ class ModelSpec(_Section):
     (0: pure assumed strain; 0.01–0.1 suppresses the spurious in-plane modes of degrees 0–2;
     1: the consistent strain)."""
 
+    rigidity_variation: RigidityVariationSpec | None = None
+    """The specimen's rigidity varying from place to place (see [model.rigidity_variation]);
+    absent: uniform."""
+
     bending_friction: Literal["tensor", "per_direction"] = "tensor"
     """Large kinematics: how the bending law's dry friction sees the curvature. ``tensor``:
     one frame-invariant law on the curvature tensor, which is each direction's law where the
@@ -172,7 +190,7 @@ class ModelSpec(_Section):
         # options of the large-rotation shell, against their defaults
         for key, default in (("membrane", None), ("membrane_strain_degree", None),
                              ("viscous_tangent", "symmetric"), ("membrane_tension", "auto"),
-                             ("bending_friction", "tensor")):
+                             ("bending_friction", "tensor"), ("rigidity_variation", None)):
             if getattr(self, key) != default and self.kinematics != "large":
                 raise _rule(
                     f"@.{key} is only used with @.kinematics = 'large' (got '{self.kinematics}')"

@@ -197,6 +197,11 @@ class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput, ShellContact):
         Newton's tangent of the friction moment (:meth:`constitutive.law.BendingState.trial`):
         ``"nonnegative"`` floors it at zero where a law softens (Fabric 2's weft); the
         residual, hence the solution, is unchanged.
+    rigidity_factor : callable, optional
+        ``x -> s(x)``: a factor on the sheet's bending moment (elastic and friction; not the
+        laws' viscosity) at reference points ``x`` of shape (2, ...), positive, e.g. a
+        specimen's non-uniform rigidity (:class:`drape.models.rigidity.RigidityVariation`).
+        Taken at the quadrature points once. None: uniform.
     viscous_tangent : {"symmetric", "full"}
         Newton's tangent of the rate terms ``d κ̇ + m κ̈``. Their dependence on the
         configuration (the curvature rate rotates with the surface) makes ``K``
@@ -216,7 +221,7 @@ class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput, ShellContact):
                  g: float = G0, membrane_strain_degree=None,
                  membrane_stabilization: float = 0.0, friction_tangent: str = "consistent",
                  viscous_tangent: str = "symmetric", drag_coefficient: float = 0.0,
-                 bending_friction: str = "tensor"):
+                 bending_friction: str = "tensor", rigidity_factor: Optional[Callable] = None):
         self.mesh = mesh
         if bending_friction not in FRICTION_FRAMES:
             raise ShellInputError(f"bending_friction must be one of {FRICTION_FRAMES}, "
@@ -260,6 +265,9 @@ class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput, ShellContact):
         # every curvature quantity is linear in HN: the sign convention is one factor
         self.HN *= CURVATURE_SIGN
         self.w = self.basis.dx
+        self.rigidity = self._rigidity(rigidity_factor)
+        # what integrates the law's energies and friction work: the factor scales the moments
+        self._bending_w = self.w if self.rigidity is None else self.w * self.rigidity
         sdofs = self.basis.element_dofs.T                   # (E, nb)
         self.nb = sdofs.shape[1]
         self.edofs = (3 * sdofs[:, :, None] + np.arange(3)).reshape(len(sdofs), -1)
@@ -303,6 +311,16 @@ class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput, ShellContact):
         self._Md_committed = np.zeros(self.w.shape + (2,))
 
     # ------------------------------------------------------------------ setup
+    def _rigidity(self, factor):
+        """The bending moment's factor at the quadrature points, (E, Q), or None (uniform)."""
+        if factor is None:
+            return None
+        s = np.asarray(factor(np.asarray(self.basis.global_coordinates())[:2]), dtype=float)
+        if s.shape != self.w.shape or not np.all(np.isfinite(s) & (s > 0)):
+            raise ShellInputError(f"rigidity_factor must give positive finite factors of shape "
+                                  f"{self.w.shape} at the quadrature points")
+        return s
+
     def _clamped_dofs(self, names):
         """Clamped dofs of all three components (drape.fem.boundary: u_nn left free, docs/theory.md §4)."""
         if not names:
@@ -400,7 +418,7 @@ class KirchhoffLoveShell(ShellForces, ShellLoads, ShellOutput, ShellContact):
         u = np.asarray(u, dtype=float)
         _, kappa = self.qp_state(u)
         dk = kappa[..., :2] - self._kappa_committed[..., :2]
-        self._friction_work += float(np.sum(self.bending.friction_work(kappa) * self.w))
+        self._friction_work += float(np.sum(self.bending.friction_work(kappa) * self._bending_w))
         if v is not None:
             v = np.asarray(v, dtype=float)
             Md = self.viscous_moments(u, v)

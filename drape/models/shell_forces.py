@@ -45,6 +45,8 @@ class ShellForces:
             M, D = self.bending.trial(kappa, mode)
             if self.symmetric_tangent:
                 D = 0.5 * (D + np.swapaxes(D, -1, -2))
+        if self.rigidity is not None:
+            M, D = self.rigidity[..., None] * M, self.rigidity[..., None, None] * D
         return M, D
 
     def _viscosity(self):

@@ -47,11 +47,15 @@ class ShellOutput:
         eps, kap = self.qp_state(u)
         eps = self.membrane_strain(eps)        # the strain whose forces are C_m eps
         out = {}
-        M, Mf = self.bending.trial(kap)[0], self.bending.friction_moment(kap)
+        M, Mf = self.moments(kap)[0], self.bending.friction_moment(kap)
+        if self.rigidity is not None:
+            Mf = self.rigidity[..., None] * Mf
         for name, i in (("xx", 0), ("yy", 1), ("xy", 2)):
             out[f"curvature_{name}"] = kap[..., i] * (0.5 if i == 2 else 1.0)
             out[f"moment_{name}"] = M[..., i]
             out[f"friction_moment_{name}"] = Mf[..., i]
+        if self.rigidity is not None:
+            out["rigidity_factor"] = self.rigidity
         out["membrane_strain_xx"] = eps[..., 0]
         out["membrane_strain_yy"] = eps[..., 1]
         out["membrane_strain_xy"] = 0.5 * eps[..., 2]
@@ -66,7 +70,7 @@ class ShellOutput:
         ``t`` evaluates the dead loads' potential (default: :attr:`load_time`)."""
         eps, kap = self.qp_state(u)
         membrane = 0.5 * np.einsum("eqv,vw,eqw,eq->", eps, self.C_m, self.membrane_strain(eps), self.w)
-        bend = float(np.sum(self.sheet_law.elastic_energy(kap) * self.w))
+        bend = float(np.sum(self.sheet_law.elastic_energy(kap) * self._bending_w))
         kinetic = 0.5 * float(v @ self.mass_products(v)[0])
         # potential of the dead loads (gravity, surface and edge force)
         t = self._t_last if t is None else t
