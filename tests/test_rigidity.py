@@ -100,3 +100,17 @@ def test_a_case_varies_the_rigidity_with_the_cv_it_asks_for():
     assert mean == pytest.approx(1.0, abs=0.05) and cv == pytest.approx(0.15, abs=0.05)
     with pytest.raises(CaseError, match="rigidity_variation.correlation_length"):
         load_case("cases/cusick_kes.toml", ["model.rigidity_variation.cv=0.15"])
+
+
+def test_one_seed_is_one_specimen():
+    """Without its own seed the field takes the perturbation's: seeds 0 and 1 of an ensemble
+    are two specimens; a seed given is kept."""
+    from drape.case.build import rigidity_variation
+
+    keys = ["model.rigidity_variation.cv=0.1", "model.rigidity_variation.correlation_length=3cm"]
+    fields = [rigidity_variation(load_case("cases/cusick_kes.toml", keys + [f"load.perturbation.seed={s}"]))
+              for s in (0, 1)]
+    assert [f.seed for f in fields] == [0, 1]
+    given = load_case("cases/cusick_kes.toml", keys + ["load.perturbation.seed=1",
+                                                       "model.rigidity_variation.seed=5"])
+    assert rigidity_variation(given).seed == 5

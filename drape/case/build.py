@@ -220,19 +220,25 @@ def build_model(case: Case, mesh, material):
                               friction_tangent=spec.friction_tangent,
                               viscous_tangent=spec.viscous_tangent,
                               bending_friction=spec.bending_friction,
-                              rigidity_factor=rigidity_variation(spec.rigidity_variation),
+                              rigidity_factor=rigidity_variation(case),
                               drag_coefficient=spec.damping.drag_coefficient, **kwargs)
     if case.contact is not None:
         shell.attach_contact(build_contact(case.contact, shell, material))
     return shell
 
 
-def rigidity_variation(spec):
-    """The ``[model.rigidity_variation]`` field (``drape.models.rigidity.RigidityVariation``) or None."""
+def rigidity_variation(case: Case):
+    """The ``[model.rigidity_variation]`` field (``drape.models.rigidity.RigidityVariation``) or
+    None; its seed, unless given, the perturbation's (one seed, one specimen)."""
+    spec = case.model.rigidity_variation
     if spec is None:
         return None
+    seed = spec.seed
+    if seed is None:
+        p = case.load.perturbation
+        seed = p.seed if p is not None and p.kind != "none" else 0
     return RigidityVariation(cv=spec.cv, correlation_length=float(spec.correlation_length),
-                             seed=spec.seed)
+                             seed=seed)
 
 
 def fold_perturbation(case: Case):

@@ -70,8 +70,10 @@ class RigidityVariationSpec(_Section):
     strips: 0.05–0.15)."""
     correlation_length: Q("m", gt=0)
     """Length ℓ over which the rigidity stays alike, e.g. "2 cm"."""
-    seed: int = Field(0, ge=0)
-    """Seed of the field: another seed, another specimen."""
+    seed: int | None = Field(None, ge=0)
+    """Seed of the field: another seed, another specimen. Absent: the seed of
+    [load.perturbation] (else 0), so that one seed is one specimen, its imperfections
+    together (the seed ensembles and sweeps vary both)."""
 
 
 class Damping(_Section):
