@@ -66,8 +66,7 @@ class RigidityVariationSpec(_Section):
     so 2HB/B stays; drape/models/rigidity.py); large kinematics only."""
 
     cv: float = Field(ge=0, le=1)
-    """Coefficient of variation of the rigidity over the specimen (KES-FB B of neighbouring
-    strips: 0.05–0.15)."""
+    """Coefficient of variation of the rigidity over the specimen (0: uniform)."""
     correlation_length: Q("m", gt=0)
     """Length ℓ over which the rigidity stays alike, e.g. "2 cm"."""
     seed: int | None = Field(None, ge=0)

@@ -1,8 +1,8 @@
 """A specimen's rigidity varying from place to place: a seeded, log-normal random field.
 
 A real specimen is not uniform: its yarn density, crimp and finish vary over a few
-centimetres, and so does its bending rigidity (KES-FB's B of strips cut side by side scatters by
-5–15 %). The drape of a uniform sheet settles into evenly spaced, equal folds once a transient
+centimetres, and so does its bending rigidity (strips cut from one fabric read different B).
+The drape of a uniform sheet settles into evenly spaced, equal folds once a transient
 perturbation has gone; a real one keeps unequal folds (the outline's irregularity,
 :func:`drape.analyses.outline.outline_irregularity`, docs/theory.md §6). This field is one
 persistent imperfection of that kind: the sheet's bending moment (elastic and friction alike,
