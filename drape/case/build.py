@@ -235,8 +235,8 @@ def rigidity_variation(case: Case):
         return None
     seed = spec.seed
     if seed is None:
-        p = case.load.perturbation
-        seed = p.seed if p is not None and p.kind != "none" else 0
+        fold = fold_perturbation(case)
+        seed = 0 if fold is None else fold.seed
     return RigidityVariation(cv=spec.cv, correlation_length=float(spec.correlation_length),
                              seed=seed)
 
