@@ -20,6 +20,11 @@ another candidate:
                     mesh's radial lines against the yarns)
 ``ramp_0.5s``       the specimen let down in 0.5 s instead of 2 s
 ``settle_1e-4``     settled at an out-of-balance of 1e-4 of the weight instead of 1e-3
+``tensor+rigidity`` the rigidity varying over the specimen, cv 0.15 over 3 cm (a seeded
+                    log-normal field, ``[model.rigidity_variation]``; the lowered case's)
+
+``--case cases/cusick_lowered.toml`` runs the rows on the specimen let down on the support,
+which carries the rigidity field already (``--only tensor`` there is the shipped set-up).
 
 Usage::
 
@@ -58,6 +63,7 @@ CANDIDATES = {
     "settle_1e-4": PER_DIRECTION + ["stop.out_of_balance=1e-4"],
     "tensor+shear_G": ["material.kes.G=1.8"],
     "tensor+mesh_90": ["mesh.n_circumferential=90"],
+    "tensor+rigidity": ["model.rigidity_variation.cv=0.15", "model.rigidity_variation.correlation_length=3cm"],
 }
 
 
