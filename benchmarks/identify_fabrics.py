@@ -18,6 +18,10 @@ scans alone, face up against face down (captures 1–2 against 3–4; the identi
 symmetric unless ``--set material.face_down_ratio=...``, so it predicts no difference) and the
 creep series (``obsK``: the fall of DC at a fixed node count).
 
+``--scans-alone`` runs nothing: it judges each fabric's training scans as the prediction of its
+test scans by the same target: what a model that reproduced its training specimens exactly
+would score on that split (``DIR/scans_alone.csv``).
+
 Writes, one row per fabric as soon as it is done: ``DIR/fabrics.csv``; at the end
 ``DIR/identify_fabrics.md`` and ``DIR/nodes_at_matched_dc.png`` (the plot of
 ``nodes_at_matched_dc.py``, here with the identified fabrics).
@@ -94,6 +98,26 @@ def _measure(paths):
     from drape.identification.target import scan_drapes
 
     return scan_drapes(paths)[0]
+
+
+def scans_alone(fabrics: dict) -> list[dict]:
+    """What the scans themselves allow: each fabric's training specimens, as their own
+    prediction of its test specimens (their mean DC, their most frequent node count), judged by
+    the same target as an identified model. Where the two halves differ by more than the
+    target, a model that reproduces its training specimens exactly misses it."""
+    rows = []
+    for number, parts in fabrics.items():
+        if not (parts["train"] and parts["test"]):
+            continue
+        train, test = _measure(parts["train"]), _measure(parts["test"])
+        dDC = float(test.dc.mean() - train.dc.mean())
+        rows.append({"fabric": number, "train_DC": round(float(train.dc.mean()), 2),
+                     "test_DC": round(float(test.dc.mean()), 2), "dDC": round(dDC, 2),
+                     "train_nodes": " ".join(map(str, train.nodes)), "train_mode": train.nodes_mode(),
+                     "test_nodes": " ".join(map(str, test.nodes)), "test_mode": test.nodes_mode(),
+                     "DC_within_5": abs(dDC) <= 5.0,
+                     "mode_within_1": abs(train.nodes_mode() - test.nodes_mode()) <= 1})
+    return rows
 
 
 def _mode(nodes) -> int:
@@ -230,6 +254,9 @@ def main(argv=None) -> int:
                    help="points per fabric once the library has some (default 6)")
     p.add_argument("--first-evaluations", type=int, default=12,
                    help="points of a fabric that starts an empty library (default 12)")
+    p.add_argument("--scans-alone", action="store_true",
+                   help="no identification: each fabric's training scans as the prediction of its "
+                        "test scans, by the same target (DIR/scans_alone.csv)")
     add_forward_options(p)
     args = p.parse_args(argv)
     os.environ.setdefault("OMP_NUM_THREADS", "1")
@@ -237,6 +264,8 @@ def main(argv=None) -> int:
     fabrics = split(write_scans(args.scans, args.out / "scans"))
     if args.fabrics:                    # in the order given: the fabrics wanted first run first
         fabrics = {k: fabrics[k] for k in args.fabrics if k in fabrics}
+    if args.scans_alone:
+        return _write_scans_alone(scans_alone(fabrics), args.out / "scans_alone.csv")
     table = args.out / "fabrics.csv"
     done = {}
     if table.exists():
@@ -264,6 +293,22 @@ def main(argv=None) -> int:
     (args.out / "identify_fabrics.md").write_text(text)
     plot(rows, args.out / "nodes_at_matched_dc.png")
     print(text)
+    return 0
+
+
+def _write_scans_alone(rows: list[dict], path: Path) -> int:
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, list(rows[0]) if rows else ["fabric"])
+        writer.writeheader()
+        writer.writerows(rows)
+    print("| fabric | train DC % | test DC % | ΔDC | train nodes (mode) | test nodes (mode) | within 5 / ±1 |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows:
+        ok = f"{'✓' if r['DC_within_5'] else '✗'} / {'✓' if r['mode_within_1'] else '✗'}"
+        print(f"| {r['fabric']} | {r['train_DC']} | {r['test_DC']} | {r['dDC']:+.2f} | "
+              f"{r['train_nodes']} ({r['train_mode']}) | {r['test_nodes']} ({r['test_mode']}) | {ok} |")
+    both = sum(r["DC_within_5"] and r["mode_within_1"] for r in rows)
+    print(f"both within target: {both} of {len(rows)}")
     return 0
 
 
