@@ -19,6 +19,8 @@ from pathlib import Path
 
 import tomli_w
 
+from constitutive.units import parse_quantity
+
 ROOT = Path(__file__).resolve().parents[1]
 LOWERED = ROOT / "cases" / "cusick_lowered.toml"
 
@@ -29,17 +31,14 @@ def lowered_case(case: dict, lowered: dict) -> dict:
     out["model"]["rigidity_variation"] = copy.deepcopy(lowered["model"]["rigidity_variation"])
     out["load"]["gravity"]["ramp_time"] = lowered["load"]["gravity"]["ramp_time"]
     contact = copy.deepcopy(lowered["contact"])
-    dhat_mm = _millimetres(contact["dhat"])
+    dhat_mm = parse_quantity(contact["dhat"]).to("mm").magnitude
+    thickness = case["material"]["kes"]["thickness"]     # KES sheets print mm
+    thickness_mm = parse_quantity(thickness).to("mm").magnitude if isinstance(thickness, str) else float(thickness)
     for body in contact["body"]:
         if body["name"] == "support":
-            body["point"] = [0, 0, f"{-(0.5 * float(case['material']['kes']['thickness']) + 0.5 * dhat_mm):.6g} mm"]
+            body["point"] = [0, 0, f"{-(0.5 * thickness_mm + 0.5 * dhat_mm):.6g} mm"]
     out["contact"] = contact
     return out
-
-
-def _millimetres(text: str) -> float:
-    value, unit = str(text).split()
-    return float(value) * {"mm": 1.0, "cm": 10.0, "m": 1000.0, "um": 1e-3}[unit]
 
 
 def main(argv: list[str] | None = None) -> int:
