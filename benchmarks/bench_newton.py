@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-POLICY_KEYS = ("lambda_min", "jump_ratio", "kink_steps", "kink_growth")
+POLICY_KEYS = ("lambda_min", "jump_ratio", "kink_steps", "kink_growth", "trial_tangent")
 
 
 def parse_variant(text: str) -> dict:

@@ -47,6 +47,23 @@ def test_quadratic_convergence_on_a_smooth_system():
     assert np.all(ratios[-3:] < 2.0)   # quadratic: bounded ratio of e_{k+1} to e_k²
 
 
+def test_the_trial_tangent_saves_evaluations_and_changes_no_iterate():
+    """Evaluating a full step's trial with its tangent gives the same iterates, bit for bit, as
+    evaluating the residual and then the tangent apart, with fewer evaluations of the problem."""
+    f = lambda x: np.array([x[0] ** 2 + x[1] ** 2 - 4.0, x[0] * x[1] - 1.0])  # noqa: E731
+    jac = lambda x: np.array([[2 * x[0], 2 * x[1]], [x[1], x[0]]])  # noqa: E731
+    tol = NewtonTolerances(rtol=1e-14, du_rtol=1e-14)
+    apart = newton(Problem(f, jac), np.array([4.0, 0.1]), tol, NewtonPolicy(trial_tangent=False))
+    problem = Problem(f, jac)
+    fused = newton(problem, np.array([4.0, 0.1]), tol)
+    assert fused.converged and apart.converged
+    np.testing.assert_array_equal(fused.x, apart.x)
+    assert fused.increment_norms == apart.increment_norms
+    assert fused.evaluations < apart.evaluations
+    # at most the last tangent goes unused (the step expected not to converge, and did)
+    assert len(problem.used) <= fused.factorizations + 1
+
+
 def test_damping_brings_arctan_home_where_plain_newton_diverges():
     """Undamped Newton on arctan(x) = 0 diverges from |x0| > 1.3917; the damped one converges."""
     f = lambda x: np.arctan(x)  # noqa: E731

@@ -15,6 +15,11 @@ error-oriented NLEQ-ERR damping):
   ``‖Δx̄‖`` fell. Contrary to ``‖R‖``, ``‖Δx̄‖`` is invariant to the scaling of
   the equations, so the stiff membrane of a shell does not veto a good bending
   step.
+- A full step's trial is evaluated with its tangent (one evaluation of the model
+  gives both): if accepted, that tangent is the next iteration's and is only
+  factorised; the residual alone is evaluated where the step is expected to
+  converge (its predicted next correction, the last contraction times this one,
+  is within the increment tolerance), since the last tangent would go unused.
 - A rejected full step first gets a new tangent at the trial point: where the
   tangent jumps (a friction point switching between stick and slip) the old
   one judges the step wrongly; the trial is accepted if the new correction is
@@ -126,6 +131,10 @@ class NewtonPolicy:
         An attempt ends after this many full (undamped) steps, or three times as many
         steps of any kind, without halving ``‖R‖`` (the first step's residual
         excluded); 0: never (only ``max_iter`` ends it).
+    trial_tangent : bool
+        Evaluate a full step's trial with its tangent (the next iteration's if the trial is
+        accepted), unless the step is expected to converge; False: the residual alone, and
+        the tangent in an evaluation of its own.
     """
 
     tangents: tuple = ("consistent",)
@@ -134,6 +143,7 @@ class NewtonPolicy:
     kink_steps: int = 3
     kink_growth: float = 10.0
     stall_iterations: int = 8
+    trial_tangent: bool = True
 
     def __post_init__(self):
         if not self.tangents or not all(isinstance(t, str) for t in self.tangents):
@@ -174,6 +184,8 @@ class _Attempt:
         self.problem, self.tol, self.policy, self.solver, self.tangent = problem, tol, policy, solver, tangent
         self.result = NewtonResult(x=None, converged=False, tangent=tangent)
         self.ref = 0.0
+        self.J = None          # the factorised tangent
+        self.contraction = np.inf   # ‖Δx̄‖/(λ‖Δx‖) of the last accepted step
 
     # -- the problem's evaluations, counted
     def _residual(self, x):
@@ -182,13 +194,22 @@ class _Attempt:
         self.ref = max(self.ref, float(scale))
         return R, float(np.linalg.norm(R))
 
-    def _linearize(self, x):
+    def _assemble(self, x):
+        """``(R, ‖R‖, J)``: residual and tangent at ``x``, the tangent not yet factorised."""
         self.result.evaluations += 1
         R, J, scale = self.problem.linearize(x, self.tangent)
         self.ref = max(self.ref, float(scale))
+        return R, float(np.linalg.norm(R)), J
+
+    def _factorize(self, J):
         self.solver.factorize(J)
         self.result.factorizations += 1
-        return R, float(np.linalg.norm(R))
+        self.J = J
+
+    def _linearize(self, x):
+        R, r, J = self._assemble(x)
+        self._factorize(J)
+        return R, r
 
     def _tolerances(self, x):
         return (self.tol.rtol * self.ref + self.tol.atol,
@@ -233,7 +254,7 @@ class _Attempt:
                 if step is None:
                     return self._fail(x, f"no damping factor down to {pol.lambda_min:g} reduced the error")
                 kinks += 1
-            x, R, r, lam_used, dx_next, fresh = step
+            x, R, r, lam_used, dx_next, fresh, J_next = step
             res.iterations += 1
             res.residual_norms.append(r)
             res.increment_norms.append(lam_used * dx_norm)
@@ -248,8 +269,12 @@ class _Attempt:
             if limit and (stalled >= limit or slow >= 3 * limit):
                 return self._fail(x, f"the residual did not halve in {slow} iterations "
                                      f"({stalled} of them undamped)")
+            self.contraction = float(np.linalg.norm(dx_next)) / max(lam_used * dx_norm, 1e-300)
             if not fresh:  # the simplified correction served the test; now a new tangent
-                R, r = self._linearize(x)
+                if J_next is None:
+                    R, r = self._linearize(x)
+                else:
+                    self._factorize(J_next)
                 dx_next = self.solver.solve(-R)
             dx, dx_norm = dx_next, float(np.linalg.norm(dx_next))
             lam = min(1.0, 2.0 * lam_used)
@@ -260,8 +285,13 @@ class _Attempt:
         max_step = getattr(self.problem, "max_step", None)
         return 1.0 if max_step is None else float(max_step(x, dx))
 
+    def _expects_convergence(self, x, dx_norm) -> bool:
+        """Whether the full step is expected to pass the increment test (its tangent unused)."""
+        _, du_tol = self._tolerances(x)
+        return self.contraction * dx_norm <= du_tol
+
     def _damped_step(self, x, dx, dx_norm, r, first, lam):
-        """Accepted ``(x, R, ‖R‖, λ, next correction, fresh tangent?)`` or None.
+        """Accepted ``(x, R, ‖R‖, λ, next correction, fresh tangent?, tangent to factorise)`` or None.
 
         λ never exceeds the problem's safe fraction (:meth:`_step_cap`), nor does its floor."""
         pol = self.policy
@@ -271,21 +301,30 @@ class _Attempt:
             return None
         while lam >= floor:
             x_try = x + lam * dx
-            R_try, r_try = self._residual(x_try)
+            J_try = None
+            if lam == 1.0 and pol.trial_tangent and not self._expects_convergence(x, dx_norm):
+                R_try, r_try, J_try = self._assemble(x_try)
+            else:
+                R_try, r_try = self._residual(x_try)
             if not np.isfinite(r_try):
                 lam *= 0.25
                 continue
             dxbar = self.solver.solve(-R_try)
             bar = float(np.linalg.norm(dxbar))
             if bar <= (1.0 - 0.25 * lam) * dx_norm or (r_try < r and bar < dx_norm):
-                return x_try, R_try, r_try, lam, dxbar, False
+                return x_try, R_try, r_try, lam, dxbar, False, J_try
             if lam == 1.0 and dx_norm <= pol.jump_ratio * first:
                 # the tangent may have jumped (stick <-> slip): judge the trial with its own tangent
-                R_new, r_new = self._linearize(x_try)
+                J_here = self.J
+                if J_try is None:
+                    R_new, r_new = self._linearize(x_try)
+                else:
+                    R_new, r_new = R_try, r_try
+                    self._factorize(J_try)
                 dx_new = self.solver.solve(-R_new)
                 if float(np.linalg.norm(dx_new)) <= 0.5 * dx_norm:
-                    return x_try, R_new, r_new, lam, dx_new, True
-                self._linearize(x)  # back to the factorisation at x for the damped trials
+                    return x_try, R_new, r_new, lam, dx_new, True, None
+                self._factorize(J_here)  # back to the tangent at x for the damped trials
             mu = dx_norm * lam * lam / (2.0 * max(float(np.linalg.norm(dxbar - (1.0 - lam) * dx)), 1e-300))
             lam = float(np.clip(mu, 0.1 * lam, 0.5 * lam))
         return None
@@ -298,7 +337,7 @@ class _Attempt:
         R_try, r_try = self._residual(x_try)
         if not r_try <= self.policy.kink_growth * r:
             return None
-        return x_try, R_try, r_try, lam, self.solver.solve(-R_try), False
+        return x_try, R_try, r_try, lam, self.solver.solve(-R_try), False, None
 
 
 def newton(problem: NonlinearProblem, x0, tolerances: NewtonTolerances | None = None,
