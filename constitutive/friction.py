@@ -83,7 +83,8 @@ class FrictionParams:
     ------
     ParameterError
         If the dissipativity conditions 3.18–3.19 fail:
-        ``f1 > f2 >= 0``, ``eps_f > 0``, ``0 < eta < 1``.
+        ``f1 > f2 >= 0``, ``eps_f > 0``, ``0 < eta < 1``, or the fast length
+        ``eps_f * eta`` underflows (its stick tangent ``f1/a1`` would be infinite).
 
     Examples
     --------
@@ -113,6 +114,10 @@ class FrictionParams:
         _check("eps_f", self.eps_f, np.asarray(self.eps_f) > 0, "eps_f > 0 (dissipativity, thesis 3.19)")
         eta = np.asarray(self.eta)
         _check("eta", self.eta, (eta > 0) & (eta < 1), "0 < eta < 1 (dissipativity, thesis 3.19)")
+        # the stick tangent is f1/a1: a fast length that underflows makes it infinite
+        a1 = np.asarray(self.eps_f * self.eta)
+        _check("eps_f * eta", a1, a1 >= np.finfo(float).tiny,
+               f"eps_f * eta >= {np.finfo(float).tiny:.3g} (the fast Dahl length a1; the stick tangent is f1/a1)")
 
     @property
     def a1(self):

@@ -22,6 +22,7 @@ def random_path(rng, n=400, scale=150.0):
     (dict(f1=1.0, f2=0.0, eps_f=1.0, eta=1.2), "eta = 1.2", "0 < eta < 1 (dissipativity, thesis 3.19)"),
     (dict(f1=1.0, f2=0.0, eps_f=1.0, eta=0.0), "eta = 0", "0 < eta < 1"),
     (dict(f1=1.0, f2=0.0, eps_f=np.nan, eta=0.5), "eps_f", "finite"),
+    (dict(f1=1.0, f2=0.0, eps_f=1e-300, eta=1e-10), "eps_f * eta = 1e-310", "the fast Dahl length a1"),
 ])
 def test_invalid_parameters_name_parameter_and_rule(kw, name, rule):
     with pytest.raises(ParameterError) as err:
