@@ -140,6 +140,7 @@ def run_fabric(number: int, parts: dict, args, out: Path, first: bool) -> dict:
             "--evaluations", str(budget), "--seeds", str(args.seeds),
             "--library", str(out / "library"), "--quiet"]
     argv += ["--workers", str(args.workers)] if args.workers else []
+    argv += [] if args.converged_within is None else ["--converged-within", str(args.converged_within)]
     argv += sum((["--set", s] for s in args.overrides), [])
     if stored.exists():
         argv.append("--resume")
@@ -254,6 +255,8 @@ def main(argv=None) -> int:
                    help="points per fabric once the library has some (default 6)")
     p.add_argument("--first-evaluations", type=int, default=12,
                    help="points of a fabric that starts an empty library (default 12)")
+    p.add_argument("--converged-within", type=float, default=None, metavar="W",
+                   help="drape identify's convergence stop (default: its own; 0: spend every evaluation)")
     p.add_argument("--scans-alone", action="store_true",
                    help="no identification: each fabric's training scans as the prediction of its "
                         "test scans, by the same target (DIR/scans_alone.csv)")

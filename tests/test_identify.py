@@ -12,6 +12,7 @@ those.
 from __future__ import annotations
 
 import json
+import math
 import os
 import subprocess
 import sys
@@ -161,6 +162,8 @@ def test_material_file_outside_the_kes_range_gives_the_laws_of_the_run(tmp_path)
     (["--out", "x"], "--base CASE is required"),
     (["s.ply", "--base", str(ROOT / "cases" / "cusick_fabric1.toml"), "--out", "x"], "no such file"),
     (["--base", str(CASE), "--out", "x", "--box", "bending_length=3,1", "scan.ply"], "no such file"),
+    (["--base", str(CASE), "--out", "x", "--converged-within", "1.5", str(CASE)],
+     "--converged-within = 1.5: must lie in [0, 1)"),
 ])
 def test_bad_input_is_one_line_and_exit_2(argv, words, capsys, tmp_path, monkeypatch):
     from drape.identification.cli import main
@@ -206,8 +209,11 @@ def test_the_models_own_drapes_are_identified_back_after_a_kill(
     assert resumed.returncode == 0, resumed.stderr
     after = read_evaluations(out)
     assert [e.to_json() for e in after[:len(first)]] == [e.to_json() for e in first]
-    assert len([e for e in after if not e.name.startswith("identified")]) == 6
     result = json.loads((out / "identified.json").read_text())
+    run = len([e for e in after if not e.name.startswith("identified")])
+    # the corners and the design point, then the surrogate's until the budget or convergence
+    assert 3 <= run <= 6
+    assert result["evaluations"]["ended"].startswith("converged") == (run < 6)
     c = result["parameters"]["bending_length"]
     assert c == pytest.approx(TRUE_C, rel=0.15)
     iv = result["intervals"]["bending_length"]
@@ -229,3 +235,59 @@ def test_a_drape_beyond_the_box_is_out_of_reach(model_scans, tmp_path):
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and "out of the model's reach" in lines[0] and "above" in lines[0]
     assert not (tmp_path / "far" / "identified.json").exists()
+
+
+class StandInRuns:
+    """Forward runs of a stand-in drape: DC = 100 (1 − exp(−(c/1.6 cm)²)) with a seeded scatter
+    of ``scatter`` points per seed, two seeds a point, nodes and outline from c alone."""
+
+    def __init__(self, scatter: float = 2.0):
+        self.pending, self.scatter, self.runs = {}, scatter, 0
+
+    @staticmethod
+    def drape(name: str, c: float, noise: float):
+        from drape.identification.target import Drape
+
+        dc = 100.0 * (1.0 - math.exp(-(c / 1.6) ** 2))
+        return Drape(name, dc + noise, int(round(12 - 3 * c)), tuple([0.12] + [0.002] * 20))
+
+    def submit(self, name, point):
+        self.pending[name] = (point,)
+
+    def cancel(self):
+        pass
+
+    def next_finished(self):
+        import numpy as np
+
+        name = next(iter(self.pending))
+        point = self.pending.pop(name)[0]
+        c = point["bending_length"]
+        rng = np.random.default_rng(int(c * 1e6))
+        self.runs += 1
+        runs = [{"seed": s, "status": "settled", "run_dir": f"{name}/s{s}", "wall_time_s": 1.0,
+                 "reason": "", "drape": self.drape(f"{name}.s{s}", c, self.scatter * rng.standard_normal()).to_json()}
+                for s in (0, 1)]
+        return Evaluation(point, "stand-in", runs, name)
+
+
+def test_the_search_ends_when_the_surrogate_asks_again_for_a_point_it_has(tmp_path):
+    """On a stand-in drape (DC a smooth function of c, 2 points of seed scatter) the search
+    ends once its next point lies within a hundredth of the box of one run, well inside a
+    budget of 20, and identifies c as well as the whole budget does (truth 1.5 cm; both within
+    5 %, which is 3 points of DC here, about the scans' own scatter)."""
+    from drape.identification.search import Search, run_search
+
+    scans = Drapes(tuple(StandInRuns.drape(f"scan{i}", 1.5, n) for i, n in enumerate((-2.0, 0.5, 1.5))))
+    box = {"bending_length": (0.6, 3.0), "hysteresis": (0.25, 1.5)}
+    found = {}
+    for within in (0.01, 0.0):
+        (tmp_path / str(within)).mkdir()
+        search = Search(scans, box, 20, tmp_path / str(within), "stand-in", converged_within=within)
+        runs = StandInRuns()
+        answer = run_search(search, runs)["answer"]
+        found[within] = (runs.runs, search.converged, answer["point"]["bending_length"])
+    runs, why, c = found[0.01]
+    assert why.startswith("converged: the surrogate's next point lies within") and runs < 20
+    assert found[0.0][:2] == (20, "")
+    assert c == pytest.approx(1.5, rel=0.05) and found[0.0][2] == pytest.approx(1.5, rel=0.05)

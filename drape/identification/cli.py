@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import math
 import os
 import sys
 import time
@@ -20,7 +21,7 @@ from pathlib import Path
 
 from drape.batch.sweep_cli import add_batch_options
 from drape.identification.parameters import DEFAULT_FREE, PARAMETERS, full_point, overrides, parse_box
-from drape.identification.search import OutOfReach, Search, run_search
+from drape.identification.search import CONVERGED_WITHIN, OutOfReach, Search, run_search
 from drape.run.cli import EXIT_CODES, EXIT_OK, Parser, code_of, describe, fail
 from drape.run.termination import sigterm_raises, stopped
 
@@ -59,6 +60,10 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--evaluations", type=int, default=14, metavar="N",
                    help="points run in DIR besides the final one (default 14; a resumed "
                         "identification may be given more)")
+    p.add_argument("--converged-within", type=float, default=CONVERGED_WITHIN, metavar="W",
+                   help="end the search once the surrogate asks for a point within W box widths "
+                        f"(log scale) of one already run (default {CONVERGED_WITHIN:g}; 0: spend "
+                        "every evaluation)")
     p.add_argument("--design", type=int, default=None, metavar="N",
                    help="Latin-hypercube points after the two corners (default 2 per parameter)")
     p.add_argument("--library", metavar="LIB", help="folder of earlier forward runs in the same "
@@ -86,13 +91,16 @@ def _definition(args, out: Path) -> dict:
     for key, n in (("--seeds", args.seeds), ("--evaluations", args.evaluations)):
         if n < 1:
             raise ValueError(f"{key} = {n}: must be >= 1")
+    if not (math.isfinite(args.converged_within) and 0 <= args.converged_within < 1):
+        raise ValueError(f"--converged-within = {args.converged_within!r}: must lie in [0, 1)")
     free = list(dict.fromkeys(args.free or DEFAULT_FREE))
     if "bending_length" not in free:
         raise ValueError("--free must include bending_length (the drape's first parameter)")
     definition = {"scans": [str(Path(s).resolve()) for s in args.scans],
                   "base": str(Path(args.base).resolve()), "set": args.overrides, "free": free,
                   "box": parse_box(args.box, free), "seeds": args.seeds,
-                  "evaluations": args.evaluations, "design": args.design,
+                  "evaluations": args.evaluations, "converged_within": args.converged_within,
+                  "design": args.design,
                   "weight": args.weight,
                   "library": str(Path(args.library).resolve()) if args.library else None}
     definition["box"] = {k: list(v) for k, v in definition["box"].items()}
@@ -100,9 +108,10 @@ def _definition(args, out: Path) -> dict:
         if not args.resume:
             raise ValueError(f"{stored} exists: continue it with --resume, or use a new --out")
         before = json.loads(stored.read_text())
-        if {**before, "evaluations": None} != {**definition, "evaluations": None}:
+        budget = {"evaluations": None, "converged_within": None}
+        if {**before, **budget} != {**definition, **budget}:
             raise ValueError(f"--resume: {stored} defines another identification (only "
-                             f"--evaluations may change); use a new --out")
+                             f"--evaluations and --converged-within may change); use a new --out")
     return definition
 
 
@@ -165,7 +174,8 @@ def _identify(args, out: Path) -> int:
         (out / DEFINITION).write_text(json.dumps(definition, indent=1))
         search = Search(target, box, definition["evaluations"], out, setup,
                         Path(definition["library"]) if definition["library"] else None,
-                        definition["design"])
+                        definition["design"],
+                        converged_within=definition.get("converged_within", CONVERGED_WITHIN))
         search.seconds["io"] += read_s
         quiet_dask()
         client, cluster = open_client(args.scheduler, args.workers)

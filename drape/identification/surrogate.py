@@ -27,7 +27,7 @@ import numpy as np
 
 from drape.identification.objective import misfit_of_score, score
 
-__all__ = ["Surrogate", "design", "NOISE", "WITHIN"]
+__all__ = ["Surrogate", "design", "unit_distance", "NOISE", "WITHIN"]
 
 #: GP noise (variance, on the normalised score): the seed scatter of a point's misfit.
 NOISE = 0.05
@@ -41,6 +41,21 @@ KAPPA = 2.576
 
 def _key(name: str) -> str:
     return f"u_{name}"
+
+
+def _unit(box: dict, point: dict) -> dict:
+    """``point`` in the surrogate's coordinates: log10 of each parameter mapped to [0, 1] over the box."""
+    return {k: math.log10(point[k] / lo) / math.log10(hi / lo) for k, (lo, hi) in box.items()}
+
+
+def unit_distance(box: dict, a: dict, b: dict) -> float:
+    """Largest difference of two points in any parameter, in widths of the box (log scale).
+
+    >>> round(unit_distance({"bending_length": (1.0, 10.0)}, {"bending_length": 2.0}, {"bending_length": 2.2}), 6)
+    0.041393
+    """
+    ua, ub = _unit(box, a), _unit(box, b)
+    return max(abs(ua[k] - ub[k]) for k in box)
 
 
 def design(box: dict, n: int, seed: int = 0) -> list[dict]:
@@ -85,8 +100,7 @@ class Surrogate:
         self.count = 0
 
     def _params(self, point: dict) -> dict:
-        return {_key(k): (math.log10(point[k] / lo)) / math.log10(hi / lo)
-                for k, (lo, hi) in self.box.items()}
+        return {_key(k): v for k, v in _unit(self.box, point).items()}
 
     def _point(self, params: dict) -> dict:
         return {k: float(f"{lo * (hi / lo) ** float(params[_key(k)]):.6g}")
