@@ -291,3 +291,15 @@ def test_the_search_ends_when_the_surrogate_asks_again_for_a_point_it_has(tmp_pa
     assert why.startswith("converged: the surrogate's next point lies within") and runs < 20
     assert found[0.0][:2] == (20, "")
     assert c == pytest.approx(1.5, rel=0.05) and found[0.0][2] == pytest.approx(1.5, rel=0.05)
+
+
+def test_stop_replay_counts_the_points_run_before_one_comes_back(benchmark_script, tmp_path, capsys):
+    """benchmarks/search_stop_replay.py: the stop fires at the first point within W box widths
+    (log scale) of an earlier one; 1.5 and 1.501 cm are 0.0004 widths of 0.6-3 cm apart."""
+    script = benchmark_script("search_stop_replay")
+    box = {"bending_length": (0.6, 3.0)}
+    points = [{"bending_length": c} for c in (1.0, 2.0, 1.5, 1.501, 1.6)]
+    assert script.stop_index(points, box, 0.01) == 3
+    assert script.stop_index(points, box, 0.0) == 5
+    assert script.stop_index(points, box, 0.2) == 2      # 1.5 lies 0.18 widths from 2.0
+    assert script.main([str(tmp_path)]) == 2 and "no identification folders" in capsys.readouterr().err
