@@ -80,7 +80,8 @@ class NonlinearProblem(Protocol):
 
     def linearize(self, x, tangent: str) -> tuple:
         """``(R, J, scale)``: residual, tangent ``∂R/∂x`` (CSR) with the material tangent
-        ``tangent``, and the force norm."""
+        ``tangent``, and the force norm. ``J`` must stay as returned: Newton may factorise it
+        again after later calls."""
 
     def norm_reference(self, x) -> float:
         """Norm of the whole unknown at ``x`` (e.g. including imposed motion) for the increment test."""
