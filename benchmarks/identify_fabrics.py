@@ -18,6 +18,10 @@ scans alone, face up against face down (captures 1–2 against 3–4; the identi
 symmetric unless ``--set material.face_down_ratio=...``, so it predicts no difference) and the
 creep series (``obsK``: the fall of DC at a fixed node count).
 
+``--library-without-own LIB`` gives each fabric a library of its own: LIB's forward runs less
+those its folder made in an earlier run of this script (``DIR/fabricNN/library``). Each fabric
+is then identified as a lab would identify a new fabric after the others.
+
 ``--scans-alone`` runs nothing: it judges each fabric's training scans as the prediction of its
 test scans by the same target: what a model that reproduced its training specimens exactly
 would score on that split (``DIR/scans_alone.csv``).
@@ -45,7 +49,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from drape.identification.cli import main as identify  # noqa: E402
 from identifiability import add_forward_options  # noqa: E402
 from drape.identification.objective import misfit  # noqa: E402
-from drape.identification.store import read_evaluations  # noqa: E402
+from drape.identification.store import append_evaluation, read_evaluations  # noqa: E402
 
 KEY = re.compile(r"fabric(?P<fabric>\d+)_sample(?P<sample>\d+)(?:_(?P<series>capture|obs)(?P<n>\d+))?$")
 COLUMNS = ["fabric", "train", "test", "status", "bending_length_cm", "interval_c",
@@ -126,7 +130,18 @@ def _mode(nodes) -> int:
     return min(counts, key=lambda k: (-counts[k], abs(k - middle), k))
 
 
-def run_fabric(number: int, parts: dict, args, out: Path, first: bool) -> dict:
+def without_own(source: Path, library: Path, folder: str) -> int:
+    """Write to ``library`` the evaluations of the library ``source`` that no run of ``folder``
+    (a fabric's folder of this script) made; return how many."""
+    kept = [e for e in read_evaluations(source)
+            if not any(Path(r.get("run_dir") or "").parts[-4:-3] == (folder,) for r in e.runs)]
+    library.mkdir(parents=True, exist_ok=True)
+    for e in kept:
+        append_evaluation(library, e)
+    return len(kept)
+
+
+def run_fabric(number: int, parts: dict, args, out: Path, first: bool, library: Path | None = None) -> dict:
     """Identify one fabric from its training scans; compare with its test scans."""
     import json
     import time
@@ -138,7 +153,7 @@ def run_fabric(number: int, parts: dict, args, out: Path, first: bool) -> dict:
               else args.first_evaluations if first else args.evaluations)
     argv = [*map(str, parts["train"]), "--base", args.case, "--out", str(folder),
             "--evaluations", str(budget), "--seeds", str(args.seeds),
-            "--library", str(out / "library"), "--quiet"]
+            "--library", str(library or out / "library"), "--quiet"]
     argv += ["--workers", str(args.workers)] if args.workers else []
     argv += [] if args.converged_within is None else ["--converged-within", str(args.converged_within)]
     argv += sum((["--set", s] for s in args.overrides), [])
@@ -257,6 +272,10 @@ def main(argv=None) -> int:
                    help="points of a fabric that starts an empty library (default 12)")
     p.add_argument("--converged-within", type=float, default=None, metavar="W",
                    help="drape identify's convergence stop (default: its own; 0: spend every evaluation)")
+    p.add_argument("--library-without-own", type=Path, metavar="LIB",
+                   help="give each fabric a library of its own, LIB's forward runs less those of "
+                        "that fabric's folder (fabricNN) in an earlier run of this script: every "
+                        "fabric is new to a lab that has identified the others")
     p.add_argument("--scans-alone", action="store_true",
                    help="no identification: each fabric's training scans as the prediction of its "
                         "test scans, by the same target (DIR/scans_alone.csv)")
@@ -278,8 +297,13 @@ def main(argv=None) -> int:
     for number, parts in fabrics.items():
         if number in done:
             continue
-        started = bool(read_evaluations(args.out / "library"))
-        row = run_fabric(number, parts, args, args.out, first=not started)
+        library = args.out / "library"
+        if args.library_without_own is not None:
+            library = args.out / f"fabric{number:02d}" / "library"
+            if not library.exists():
+                without_own(args.library_without_own, library, f"fabric{number:02d}")
+        started = bool(read_evaluations(library))
+        row = run_fabric(number, parts, args, args.out, first=not started, library=library)
         rows.append(row)
         new = not table.exists()
         with open(table, "a", newline="") as fh:

@@ -303,3 +303,17 @@ def test_stop_replay_counts_the_points_run_before_one_comes_back(benchmark_scrip
     assert script.stop_index(points, box, 0.0) == 5
     assert script.stop_index(points, box, 0.2) == 2      # 1.5 lies 0.18 widths from 2.0
     assert script.main([str(tmp_path)]) == 2 and "no identification folders" in capsys.readouterr().err
+
+
+def test_a_fabrics_library_leaves_out_its_own_runs(benchmark_script, tmp_path):
+    """benchmarks/identify_fabrics.py --library-without-own: a fabric's library keeps the other
+    fabrics' forward runs and none of its own folder's."""
+    script = benchmark_script("identify_fabrics")
+    source = tmp_path / "lib"
+    for folder, name in (("fabric04", "e000"), ("fabric14", "e000"), ("fabric04", "identified")):
+        runs = [{"seed": 0, "status": "settled", "run_dir": str(tmp_path / folder / "runs" / name / "s0"),
+                 "wall_time_s": 1.0, "reason": "", "drape": None}]
+        append_evaluation(source, Evaluation({"bending_length": 1.0}, "s", runs, name))
+    assert script.without_own(source, tmp_path / "own4", "fabric04") == 1
+    assert [e.runs[0]["run_dir"] for e in read_evaluations(tmp_path / "own4")] == [
+        str(tmp_path / "fabric14" / "runs" / "e000" / "s0")]
