@@ -8,15 +8,17 @@ reads (keys ``fabricNN_sampleSS_captureC``, ``fabricNN_sampleSS``, ``fabricNN_sa
 ``vertex_unit_m``), e.g. the Leeds Cusick drape dataset (D. Gong, N. Mao, H. Wang, "Bayesian
 Differentiable Physics for Cloth Digitalization", CVPR 2024); the scans are external data.
 
-For each fabric, the face-up scans (captures 1–2, or the single capture) of its odd samples are
-the training set: ``drape identify`` finds the bending length and 2HB/B from them
-(``cases/cusick_kes.toml``; all fabrics share one growing ``--library`` of forward runs,
-``DIR/library``). The identified point's simulated drapes then predict the even samples'
-face-up scans: mean DC within 5 points and the most frequent node count within ±1 (the
-target), beside the measured spread between those specimens. The script also reports, from the
-scans alone, face up against face down (captures 1–2 against 3–4; the identified law is
-symmetric unless ``--set material.face_down_ratio=...``, so it predicts no difference) and the
-creep series (``obsK``: the fall of DC at a fixed node count).
+For each fabric, the scans of its odd samples are the training set: ``drape identify`` finds
+the bending length and 2HB/B from them (``cases/cusick_kes.toml`` unless ``--case``; all
+fabrics share one growing ``--library`` of forward runs, ``DIR/library``). The identified
+point's simulated drapes then predict the even samples' scans: mean DC within 5 points and the
+most frequent node count within ±1 (the target), beside the measured spread between those
+specimens. Each half holds every capture of its specimens, face up and face down, as a Cusick
+test reads a specimen on both faces and takes the mean (BS 5058); ``--faces up`` keeps the
+face-up captures (1–2, or the single capture) only. The script also reports, from the scans
+alone, face up against face down (captures 1–2 against 3–4; the identified law is symmetric
+unless ``--set material.face_down_ratio=...``, so it predicts no difference) and the creep
+series (``obsK``: the fall of DC at a fixed node count).
 
 ``--library-without-own LIB`` gives each fabric a library of its own: LIB's forward runs less
 those its folder made in an earlier run of this script (``DIR/fabricNN/library``). Each fabric
@@ -79,9 +81,15 @@ def write_scans(npz: Path, folder: Path) -> dict:
     return out
 
 
-def split(scans: dict) -> dict:
-    """Per fabric: training (odd samples, face up), test (even samples, face up), face down,
-    creep series."""
+def split(scans: dict, faces: str = "both") -> dict:
+    """Per fabric: training (odd samples), test (even samples), face down, creep series.
+
+    ``faces="both"``: every capture of a specimen, face up and face down, goes to its half, as a
+    Cusick test reads a specimen on both faces and takes the mean (BS 5058); ``"up"``: the face-up
+    captures (1–2, or the single capture) only. ``down`` lists the face-down captures either way.
+    """
+    if faces not in ("both", "up"):
+        raise ValueError(f"faces must be 'both' or 'up', not {faces!r}")
     fabrics = defaultdict(lambda: {"train": [], "test": [], "down": [], "creep": []})
     for key, path in sorted(scans.items()):
         m = KEY.match(key)
@@ -91,10 +99,12 @@ def split(scans: dict) -> dict:
         if m["series"] == "obs":
             f["creep"].append((int(m["sample"]), int(m["n"]), path))
             continue
+        half = "train" if int(m["sample"]) % 2 else "test"
         if m["series"] == "capture" and int(m["n"]) > 2:
             f["down"].append(path)
-            continue
-        f["train" if int(m["sample"]) % 2 else "test"].append(path)
+            if faces == "up":
+                continue
+        f[half].append(path)
     return dict(sorted(fabrics.items()))
 
 
@@ -168,7 +178,7 @@ def run_fabric(number: int, parts: dict, args, out: Path, first: bool, library: 
            "test_DC_sd": round(test.dc_std(), 2), "test_nodes": " ".join(map(str, test.nodes)),
            "test_mode": test.nodes_mode(), "wall_s": round(time.perf_counter() - t0, 1)}
     if parts["down"]:
-        up = np.concatenate([train.dc, test.dc])
+        up = _measure([q for q in parts["train"] + parts["test"] if q not in parts["down"]]).dc
         row.update(face_up_DC=round(float(up.mean()), 2),
                    face_down_DC=round(float(_measure(parts["down"]).dc.mean()), 2))
     if code != 0:
@@ -274,6 +284,9 @@ def main(argv=None) -> int:
                    help="give each fabric a library of its own, LIB's forward runs less those of "
                         "that fabric's folder (fabricNN) in an earlier run of this script: every "
                         "fabric is new to a lab that has identified the others")
+    p.add_argument("--faces", choices=("both", "up"), default="both",
+                   help="captures in each half: every capture of a specimen, face up and face down "
+                        "(default, as BS 5058 reads a specimen), or the face-up ones only")
     p.add_argument("--scans-alone", action="store_true",
                    help="no identification: each fabric's training scans as the prediction of its "
                         "test scans, by the same target (DIR/scans_alone.csv)")
@@ -281,7 +294,7 @@ def main(argv=None) -> int:
     args = p.parse_args(argv)
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     args.out.mkdir(parents=True, exist_ok=True)
-    fabrics = split(write_scans(args.scans, args.out / "scans"))
+    fabrics = split(write_scans(args.scans, args.out / "scans"), args.faces)
     if args.fabrics:                    # in the order given: the fabrics wanted first run first
         fabrics = {k: fabrics[k] for k in args.fabrics if k in fabrics}
     if args.scans_alone:

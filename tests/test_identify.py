@@ -317,3 +317,19 @@ def test_a_fabrics_library_leaves_out_its_own_runs(benchmark_script, tmp_path):
     assert script.without_own(source, tmp_path / "own4", "fabric04") == 1
     assert [e.runs[0]["run_dir"] for e in read_evaluations(tmp_path / "own4")] == [
         str(tmp_path / "fabric14" / "runs" / "e000" / "s0")]
+
+
+def test_the_split_puts_every_capture_of_a_specimen_in_its_half(benchmark_script):
+    """benchmarks/identify_fabrics.py: odd samples train, even ones test; with both faces each
+    specimen's four captures go to its half, with ``faces="up"`` captures 1-2 only; the face-down
+    captures and the creep series are listed apart either way."""
+    script = benchmark_script("identify_fabrics")
+    scans = {f"fabric04_sample{s:02d}_capture{c}": f"{s}.{c}" for s in (1, 2) for c in (1, 2, 3, 4)}
+    scans.update({"fabric21_sample03": "21.3", "fabric01_sample01_obs2": "obs", "vertex_unit_m": "-"})
+    both, up = script.split(scans), script.split(scans, "up")
+    assert both[4]["train"] == ["1.1", "1.2", "1.3", "1.4"] and both[4]["test"] == ["2.1", "2.2", "2.3", "2.4"]
+    assert up[4]["train"] == ["1.1", "1.2"] and up[4]["test"] == ["2.1", "2.2"]
+    assert both[4]["down"] == up[4]["down"] == ["1.3", "1.4", "2.3", "2.4"]
+    assert both[21]["train"] == ["21.3"] and both[1]["creep"] == [(1, 2, "obs")]
+    with pytest.raises(ValueError, match="faces"):
+        script.split(scans, "down")
