@@ -233,10 +233,9 @@ def rigidity_variation(case: Case):
     spec = case.model.rigidity_variation
     if spec is None:
         return None
-    seed = spec.seed
+    seed, p = spec.seed, case.load.perturbation
     if seed is None:
-        fold = fold_perturbation(case)
-        seed = 0 if fold is None else fold.seed
+        seed = 0 if p is None or p.kind == "none" else p.seed
     return RigidityVariation(cv=spec.cv, correlation_length=float(spec.correlation_length),
                              seed=seed)
 
