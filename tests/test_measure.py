@@ -332,7 +332,8 @@ def test_training_scans_judged_as_the_prediction_of_the_test_scans(tmp_path, ben
     hangs in 8 folds, its even one in 6, so the training scans miss the test's mode by 2; fabric
     2's halves hang in 7 and 8 and meet the target. The hems' mean radius is the same in every
     scan, so the DCs differ by far less than 5 points; fabric 21, with no test specimen, is left
-    out. Face-down captures (3, 4) are not part of either half."""
+    out. A face-down capture (3, 4) goes to its specimen's half, or to neither with
+    ``--faces up``."""
     unit = 1e-5
     scans = {"fabric01_sample01_capture1": 8, "fabric01_sample01_capture2": 8,
              "fabric01_sample01_capture3": 4, "fabric01_sample02_capture1": 6,
@@ -345,15 +346,17 @@ def test_training_scans_judged_as_the_prediction_of_the_test_scans(tmp_path, ben
         arrays[f"{key}/faces"] = tri.astype(np.uint16)
     np.savez(tmp_path / "scans.npz", **arrays)
     script = benchmark_script("identify_fabrics")
-    assert script.main([str(tmp_path / "scans.npz"), "--out", str(tmp_path / "out"),
-                        "--scans-alone"]) == 0
     import csv
 
-    rows = {int(r["fabric"]): r for r in csv.DictReader(open(tmp_path / "out" / "scans_alone.csv"))}
-    assert sorted(rows) == [1, 2]
-    assert (rows[1]["train_nodes"], rows[1]["test_nodes"]) == ("8 8", "6 6")
-    assert (rows[1]["mode_within_1"], rows[2]["mode_within_1"]) == ("False", "True")
-    assert abs(float(rows[1]["dDC"])) < 1.0 and rows[1]["DC_within_5"] == "True"
+    for faces, train_nodes in (("both", "8 8 4"), ("up", "8 8")):
+        out = tmp_path / faces
+        assert script.main([str(tmp_path / "scans.npz"), "--out", str(out), "--scans-alone",
+                            "--faces", faces]) == 0
+        rows = {int(r["fabric"]): r for r in csv.DictReader(open(out / "scans_alone.csv"))}
+        assert sorted(rows) == [1, 2]
+        assert (rows[1]["train_nodes"], rows[1]["test_nodes"]) == (train_nodes, "6 6")
+        assert (rows[1]["mode_within_1"], rows[2]["mode_within_1"]) == ("False", "True")
+        assert abs(float(rows[1]["dDC"])) < 1.0 and rows[1]["DC_within_5"] == "True"
 
 
 def test_face_down_against_face_up_of_specimens_captured_four_times(benchmark_script):
