@@ -233,9 +233,10 @@ def rigidity_variation(case: Case):
     spec = case.model.rigidity_variation
     if spec is None:
         return None
-    seed, p = spec.seed, case.load.perturbation
+    seed = spec.seed
     if seed is None:
-        seed = 0 if p is None or p.kind == "none" else p.seed
+        fold = fold_perturbation(case)
+        seed = 0 if fold is None else fold.seed
     return RigidityVariation(cv=spec.cv, correlation_length=float(spec.correlation_length),
                              seed=seed)
 
