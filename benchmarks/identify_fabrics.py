@@ -151,6 +151,17 @@ def without_own(source: Path, library: Path, folder: str) -> int:
     return len(kept)
 
 
+def face_dcs(parts: dict, train, test) -> tuple[float, float]:
+    """Mean DC of a fabric's face-up and of its face-down captures, each scan measured once:
+    those of the halves are in ``train`` and ``test`` already (with ``--faces up`` the
+    face-down ones are in neither)."""
+    dc = dict(zip(parts["train"] + parts["test"], np.concatenate([train.dc, test.dc])))
+    missing = [q for q in parts["down"] if q not in dc]
+    dc.update(zip(missing, _measure(missing).dc) if missing else ())
+    up = [v for q, v in dc.items() if q not in parts["down"]]
+    return round(float(np.mean(up)), 2), round(float(np.mean([dc[q] for q in parts["down"]])), 2)
+
+
 def run_fabric(number: int, parts: dict, args, out: Path, first: bool, library: Path | None = None) -> dict:
     """Identify one fabric from its training scans; compare with its test scans."""
     import json
@@ -178,9 +189,7 @@ def run_fabric(number: int, parts: dict, args, out: Path, first: bool, library: 
            "test_DC_sd": round(test.dc_std(), 2), "test_nodes": " ".join(map(str, test.nodes)),
            "test_mode": test.nodes_mode(), "wall_s": round(time.perf_counter() - t0, 1)}
     if parts["down"]:
-        up = _measure([q for q in parts["train"] + parts["test"] if q not in parts["down"]]).dc
-        row.update(face_up_DC=round(float(up.mean()), 2),
-                   face_down_DC=round(float(_measure(parts["down"]).dc.mean()), 2))
+        row.update(zip(("face_up_DC", "face_down_DC"), face_dcs(parts, train, test)))
     if code != 0:
         return {**row, "status": {5: "out of reach"}.get(code, f"exit {code}")}
     result = json.loads((folder / "identified.json").read_text())

@@ -333,3 +333,23 @@ def test_the_split_puts_every_capture_of_a_specimen_in_its_half(benchmark_script
     assert both[21]["train"] == ["21.3"] and both[1]["creep"] == [(1, 2, "obs")]
     with pytest.raises(ValueError, match="faces"):
         script.split(scans, "down")
+
+
+def test_face_dcs_measure_each_capture_once(benchmark_script, monkeypatch):
+    """benchmarks/identify_fabrics.py: the face-up and face-down mean DCs come from the halves'
+    drapes; only face-down captures in neither half (``faces="up"``) are measured again."""
+    from drape.identification.target import Drape, Drapes
+
+    script = benchmark_script("identify_fabrics")
+    dc = {"1.1": 50.0, "1.3": 60.0, "2.1": 52.0, "2.3": 64.0}
+    measured = []
+
+    def drapes(paths):
+        return Drapes(tuple(Drape(p, dc[p], 8, ()) for p in paths))
+
+    monkeypatch.setattr(script, "_measure", lambda paths: measured.extend(paths) or drapes(paths))
+    for faces, again in (("both", []), ("up", ["1.3", "2.3"])):
+        parts = script.split({f"fabric04_sample0{p[0]}_capture{p[2]}": p for p in dc}, faces)[4]
+        measured.clear()
+        assert script.face_dcs(parts, drapes(parts["train"]), drapes(parts["test"])) == (51.0, 62.0)
+        assert measured == again
