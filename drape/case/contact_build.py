@@ -107,7 +107,7 @@ def build_contact(spec, shell, material, u0=None) -> Contact:
                                   0.5 * thickness)
     u0 = np.zeros(shell.ndofs) if u0 is None else u0
     contact = Contact(scene, dofs, shell.ndofs, dhat=spec.dhat, stiffness=kappa, thickness=thickness,
-                      eps_v=spec.eps_v, mu_self=spec.mu_self)
+                      eps_v=spec.eps_v, mu_self=spec.mu_self, hessian=spec.hessian)
     contact.check_start(u0)
     if spec.barrier_stiffness is None:
         # the share is carried by every pair a resting vertex makes with the body's mesh

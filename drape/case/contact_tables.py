@@ -189,6 +189,12 @@ class ContactSpec(_Section):
     """Collision mesh: every fabric triangle split into subdivision² sub-triangles whose
     vertices follow the shell's field inside the element (1: the mesh vertices alone, whose
     chords cut the curved elements)."""
+    hessian: Literal["projected", "exact"] = "projected"
+    """The barrier's and the friction's Hessians in Newton's tangent: ``projected`` on the
+    positive semi-definite cone pair by pair, as IPC does (robust where contacts come and go),
+    or ``exact``, which converges quadratically where the fabric is held between two bodies (a
+    grip), where the projected tangent overstates the barrier's stiffness and Newton converges
+    only linearly."""
     body: list[BodySpec] = []
     """``[[contact.body]]``: the rigid bodies."""
 

@@ -19,7 +19,7 @@ collision mesh (``[contact] subdivision``, :mod:`drape.fem.subdivision`); their 
 the reference points plus a linear map of the dofs, ``x = X + P u``: a selection of the
 vertex-value dofs (the Argyris value dof of each vertex, as in ``nodal_displacement``), or the
 shell's field evaluated at the sub-vertices with the element basis. Forces on the dofs are
-``Pᵀ g``, tangents ``Pᵀ H P`` (the Hessians projected to positive semi-definite, as IPC does).
+``Pᵀ g``, tangents ``Pᵀ H P`` (the Hessians projected or exact: :data:`PROJECTIONS`).
 """
 from __future__ import annotations
 
@@ -29,13 +29,21 @@ import scipy.sparse as sp
 
 from drape.contact.bodies import ContactInputError, Scene
 
-__all__ = ["Contact", "CCD_FRACTION"]
+__all__ = ["Contact", "CCD_FRACTION", "PROJECTIONS"]
 
 #: Fraction of the step to the first touch that a line search may take (IPC's conservative
 #: rescaling, applied by the narrow phase).
 CCD_FRACTION = 0.8
 
-_PSD = ipctk.PSDProjectionMethod.CLAMP
+#: ``hessian`` of :class:`Contact`: how the barrier's and the friction's Hessians enter the
+#: tangent. IPC projects each pair's Hessian on the positive semi-definite cone because its
+#: Newton minimises an energy and needs a descent direction; Newton here drives a residual to
+#: zero and factorises an indefinite tangent (LDLᵀ), so it can take them exact. The projection
+#: drops the negative part of ``κ b′(s) ∇²s`` (``s`` the squared distance), together with the
+#: body vertices' rows it mixes in, and so overstates the barrier's stiffness: in a grip, where
+#: the fabric is squeezed between two bodies, Newton then converges linearly, the residual
+#: halving per iteration (docs/theory.md §7).
+PROJECTIONS = {"projected": ipctk.PSDProjectionMethod.CLAMP, "exact": ipctk.PSDProjectionMethod.NONE}
 
 
 def _coordinates(block):
@@ -68,10 +76,14 @@ class Contact:
         Friction's stick velocity ε_v [m/s]: below it the friction force grows linearly.
     mu_self : float
         Friction coefficient of the fabric on itself (self-contact).
+    hessian : {"projected", "exact"}
+        The pairs' Hessians in the tangent projected on the positive semi-definite cone, as
+        IPC does, or exact (:data:`PROJECTIONS`).
     """
 
     def __init__(self, scene: Scene, interpolation, ndofs: int, *, dhat: float, stiffness: float,
-                 thickness: float = 0.0, eps_v: float = 1e-3, mu_self: float = 0.0):
+                 thickness: float = 0.0, eps_v: float = 1e-3, mu_self: float = 0.0,
+                 hessian: str = "projected"):
         for name, value, low in (("dhat", dhat, 0.0), ("stiffness", stiffness, 0.0), ("eps_v", eps_v, 0.0)):
             if not (np.isfinite(value) and value > low):
                 raise ContactInputError(f"contact.{name} = {value!r} must be > 0")
@@ -79,6 +91,9 @@ class Contact:
             raise ContactInputError(f"contact.thickness = {thickness!r} must be >= 0")
         if not (np.isfinite(mu_self) and mu_self >= 0):
             raise ContactInputError(f"contact.mu_self = {mu_self!r} must be >= 0")
+        if hessian not in PROJECTIONS:
+            raise ContactInputError(f"contact.hessian = {hessian!r} must be one of {', '.join(PROJECTIONS)}")
+        self._projection = PROJECTIONS[hessian]
         self.scene = scene
         self.ndofs = int(ndofs)
         self.P = self._interpolation(interpolation, scene.n_fabric, self.ndofs)
@@ -149,7 +164,7 @@ class Contact:
             ``Pᵀ (∇B(x) + ∇D(v))``: barrier and lagged friction, as a resisting force (the
             residual's sign, like ``f_int``).
         tangent : (rows, cols, values) or None
-            ``c_K Pᵀ ∇²B P + c_C Pᵀ ∇²D P`` as coordinates in the dofs (PSD-projected Hessians).
+            ``c_K Pᵀ ∇²B P + c_C Pᵀ ∇²D P`` as coordinates in the dofs.
         """
         if weights is None:
             return self._terms(u, v, t, False, False)[0], None
@@ -176,12 +191,12 @@ class Contact:
         if len(collisions):
             force += self._Pt @ self.barrier.gradient(collisions, mesh, x)[:self._m]
             if barrier_tangent:
-                barrier = self._fabric_block(self.barrier.hessian(collisions, mesh, x, _PSD))
+                barrier = self._fabric_block(self.barrier.hessian(collisions, mesh, x, self._projection))
         if not self._lagged.empty():
             w = self.scene.velocities(self.fabric_values(v), t)
             force += self._Pt @ self.friction.gradient(self._lagged, mesh, w)[:self._m]
             if friction_tangent:
-                friction = self._fabric_block(self.friction.hessian(self._lagged, mesh, w, _PSD))
+                friction = self._fabric_block(self.friction.hessian(self._lagged, mesh, w, self._projection))
         return force, barrier, friction
 
     def _fabric_block(self, H):
