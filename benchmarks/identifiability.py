@@ -79,7 +79,7 @@ def main(argv=None) -> int:
                           folder / "specimens")
         argv = [*map(str, scans), "--base", args.case, "--out", str(folder / "identify"),
                 "--evaluations", str(args.evaluations), "--seeds", str(args.seeds),
-                "--library", str(args.out / "library"), "--quiet"]
+                "--library", str(args.out / "library"), "--no-bundled-library", "--quiet"]
         argv += sum((["--set", s] for s in args.overrides), [])
         argv += ["--workers", str(args.workers)] if args.workers else []
         if (folder / "identify" / "identify.json").exists():

@@ -174,7 +174,7 @@ def run_fabric(number: int, parts: dict, args, out: Path, first: bool, library: 
               else args.first_evaluations if first else args.evaluations)
     argv = [*map(str, parts["train"]), "--base", args.case, "--out", str(folder),
             "--evaluations", str(budget), "--seeds", str(args.seeds),
-            "--library", str(library or out / "library"), "--quiet"]
+            "--library", str(library or out / "library"), "--no-bundled-library", "--quiet"]
     argv += ["--workers", str(args.workers)] if args.workers else []
     argv += [] if args.converged_within is None else ["--converged-within", str(args.converged_within)]
     argv += sum((["--set", s] for s in args.overrides), [])

@@ -353,3 +353,54 @@ def test_face_dcs_measure_each_capture_once(benchmark_script, monkeypatch):
         measured.clear()
         assert script.face_dcs(parts, drapes(parts["train"]), drapes(parts["test"])) == (51.0, 62.0)
         assert measured == again
+
+
+def test_a_bundled_library_warm_starts_the_search_and_is_never_written(tmp_path):
+    """Forward runs bundled with the package (read only) join the search like a library's: a
+    search that finds the stand-in drape's corners and design among them runs none of them,
+    and the bundle's file is left as it was."""
+    from drape.identification.search import Search, run_search
+    from drape.identification.store import EVALUATIONS, append_evaluation, read_evaluations
+    from drape.identification.surrogate import design
+
+    scans = Drapes(tuple(StandInRuns.drape(f"scan{i}", 1.5, n) for i, n in enumerate((-2.0, 0.5, 1.5))))
+    box = {"bending_length": (0.6, 3.0), "hysteresis": (0.25, 1.5)}
+    bundle = tmp_path / "bundle"
+    maker = StandInRuns()
+    for k, corner in enumerate(design(box, 4)):
+        maker.submit(f"b{k:03d}", full_point(corner, list(box)))
+        append_evaluation(bundle, maker.next_finished())
+    before = (bundle / EVALUATIONS).read_text()
+    cold, warm = StandInRuns(), StandInRuns()
+    for name, runs, bundled in (("cold", cold, None), ("warm", warm, bundle)):
+        (tmp_path / name).mkdir()
+        search = Search(scans, box, 8, tmp_path / name, "stand-in", bundled=bundled, converged_within=0.0)
+        run_search(search, runs)
+    assert (bundle / EVALUATIONS).read_text() == before
+    bundled_points = {tuple(e.point.items()) for e in read_evaluations(bundle)}
+    ran = {name: {tuple(e.point.items()) for e in read_evaluations(tmp_path / name)} for name in ("cold", "warm")}
+    assert bundled_points <= ran["cold"]            # the cold search runs its corners and design
+    assert not bundled_points & ran["warm"]         # the warm one finds them in the bundle
+    assert cold.runs == warm.runs == 8
+
+
+def test_every_bundled_evaluation_is_of_a_bundled_case_as_it_loads_now(benchmark_script):
+    """The forward runs shipped in cases/libraries/identification carry the set-up fingerprint
+    of a bundled Cusick case with a KES sheet as it loads today. A change of such a case (or of
+    what a case resolves to) changes its fingerprint and fails here: the runs are then stale
+    (benchmarks/bundle_library.py says how to bundle new ones)."""
+    from constitutive.bundled import cases_dir
+    from drape.case.case import load_case
+    from drape.identification.store import read_evaluations
+
+    script = benchmark_script("bundle_library")
+    bundle = read_evaluations(cases_dir("libraries", "identification"))
+    assert len(bundle) >= 40
+    setups = set()
+    for path in cases_dir().glob("*.toml"):
+        case = load_case(path, [])
+        if case.case.analysis == "cusick" and case.material.kes is not None:
+            setups.add(script.setup_of(path))
+    assert {e.setup for e in bundle} <= setups
+    run_dirs = [r["run_dir"] for e in bundle for r in e.runs]
+    assert len(run_dirs) == len(set(run_dirs)) and all(d.startswith("bundled/") for d in run_dirs)

@@ -19,6 +19,7 @@ import sys
 import time
 from pathlib import Path
 
+from constitutive.bundled import cases_dir
 from drape.batch.sweep_cli import add_batch_options
 from drape.identification.parameters import DEFAULT_FREE, PARAMETERS, full_point, overrides, parse_box
 from drape.identification.search import CONVERGED_WITHIN, OutOfReach, Search, run_search
@@ -29,6 +30,9 @@ __all__ = ["EXIT_OUT_OF_REACH", "main"]
 
 #: The scans lie beyond what the model reaches over the parameter box.
 EXIT_OUT_OF_REACH = 5
+#: Forward runs shipped with the package (``cases/libraries/identification``), by set-up: an
+#: identification on a bundled base case starts from them instead of from nothing.
+BUNDLED_LIBRARY = cases_dir("libraries", "identification")
 DEFINITION = "identify.json"
 
 
@@ -68,6 +72,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="Latin-hypercube points after the two corners (default 2 per parameter)")
     p.add_argument("--library", metavar="LIB", help="folder of earlier forward runs in the same "
                    "set-up: they warm-start the surrogate, and this run's are added to it")
+    p.add_argument("--no-bundled-library", action="store_true",
+                   help="do not warm-start from the forward runs shipped with the package "
+                        "(cases/libraries/identification; used where their set-up is the base case's)")
     p.add_argument("--weight", type=float, metavar="MG_PER_CM2",
                    help="fabric weight W (mg/cm²) the material file's B is given at "
                         "(default: the base case's)")
@@ -102,12 +109,14 @@ def _definition(args, out: Path) -> dict:
                   "evaluations": args.evaluations, "converged_within": args.converged_within,
                   "design": args.design,
                   "weight": args.weight,
-                  "library": str(Path(args.library).resolve()) if args.library else None}
+                  "library": str(Path(args.library).resolve()) if args.library else None,
+                  "bundled_library": not args.no_bundled_library}
     definition["box"] = {k: list(v) for k, v in definition["box"].items()}
     if stored.exists():
         if not args.resume:
             raise ValueError(f"{stored} exists: continue it with --resume, or use a new --out")
         before = json.loads(stored.read_text())
+        before.setdefault("bundled_library", definition["bundled_library"])   # begun before there was one
         budget = {"evaluations": None, "converged_within": None}
         if {**before, **budget} != {**definition, **budget}:
             raise ValueError(f"--resume: {stored} defines another identification (only "
@@ -175,6 +184,7 @@ def _identify(args, out: Path) -> int:
         search = Search(target, box, definition["evaluations"], out, setup,
                         Path(definition["library"]) if definition["library"] else None,
                         definition["design"],
+                        bundled=BUNDLED_LIBRARY if definition.get("bundled_library", False) else None,
                         converged_within=definition.get("converged_within", CONVERGED_WITHIN))
         search.seconds["io"] += read_s
         quiet_dask()

@@ -1,7 +1,8 @@
 """The identification loop: design, out-of-reach check, Bayesian optimisation, stored as it goes.
 
 1. The stored evaluations of this folder (a resumed identification) and those of a library in
-   the same set-up are scored against the scans and registered with the surrogate.
+   the same set-up (the user's, and the forward runs bundled with the package, read only) are
+   scored against the scans and registered with the surrogate.
 2. The initial design (:func:`drape.identification.surrogate.design`: the box's two corners,
    then Latin-hypercube points) is run where it is not already known.
 3. Once both corners are known, a scan set whose mean DC lies beyond what the corners reach
@@ -57,6 +58,7 @@ class Search:
     setup: str
     library: Path | None = None
     n_design: int | None = None
+    bundled: Path | None = None      # forward runs shipped with the package: read, never written
     converged_within: float = CONVERGED_WITHIN   # 0: spend the whole budget
     converged: str = ""                          # why the search ended early, if it did
     seconds: dict = field(default_factory=lambda: {"forward_wait": 0.0, "surrogate": 0.0,
@@ -160,11 +162,15 @@ def run_search(search: Search, forward, in_flight: int = 1, progress=None) -> di
     t0 = time.perf_counter()
     own = read_evaluations(out)
     lib = []
-    if search.library is not None:
-        fixed = {k: v for k, v in full_point({k: 0.0 for k in free}, free).items() if k not in free}
-        names = {e.runs[0]["run_dir"] for e in own if e.runs}
-        lib = [e for e in library_evaluations(search.library, search.setup, fixed)
-               if e.runs and e.runs[0]["run_dir"] not in names]
+    fixed = {k: v for k, v in full_point({k: 0.0 for k in free}, free).items() if k not in free}
+    names = {e.runs[0]["run_dir"] for e in own if e.runs}
+    for folder in (search.library, search.bundled):
+        if folder is None:
+            continue
+        for e in library_evaluations(folder, search.setup, fixed):
+            if e.runs and e.runs[0]["run_dir"] not in names:
+                lib.append(e)
+                names.add(e.runs[0]["run_dir"])
     search.seconds["io"] += time.perf_counter() - t0
 
     t0 = time.perf_counter()
