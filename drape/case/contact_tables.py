@@ -191,10 +191,9 @@ class ContactSpec(_Section):
     chords cut the curved elements)."""
     hessian: Literal["projected", "exact"] = "projected"
     """The barrier's and the friction's Hessians in Newton's tangent: ``projected`` on the
-    positive semi-definite cone pair by pair, as IPC does (robust where contacts come and go),
-    or ``exact``, which converges quadratically where the fabric is held between two bodies (a
-    grip), where the projected tangent overstates the barrier's stiffness and Newton converges
-    only linearly."""
+    positive semi-definite cone pair by pair, as IPC does, or ``exact``. Where the fabric is
+    held between two bodies (a grip) the projected tangent overstates the barrier's stiffness
+    and Newton converges only linearly; the exact one converges there (docs/theory.md §7)."""
     body: list[BodySpec] = []
     """``[[contact.body]]``: the rigid bodies."""
 

@@ -1,7 +1,7 @@
 """``python -m drape.identify`` / ``drape identify``: the bending law from scanned drapes.
 
 ``python -m drape.identify SCAN [SCAN ...] --base CASE --out DIR [--free KEY ...] [--box KEY=LO,HI]
-[--seeds N] [--evaluations N] [--library LIB] [--weight W] [--resume]``
+[--seeds N] [--evaluations N] [--library LIB] [--no-bundled-library] [--weight W] [--resume]``
 
 Writes to DIR: ``identified.json`` (parameters, intervals and how they were computed, the
 scans' and the identified point's descriptors, the time spent where), ``material.toml`` (a
