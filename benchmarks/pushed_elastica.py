@@ -123,11 +123,13 @@ class GrippedElastica(Elastica):
     """The strip held at its rear end (segment 0 clamped) and gripped up to the edge at ``x``
     by a two-sided elastic foundation of stiffness ``grip`` [N/m³] (a force per area ``−grip z``):
     a grip that holds the slope by a couple over a zone, as contact does, instead of a moment
-    at the edge. Every segment is free; small slopes in the grip."""
+    at the edge. Every segment is free; small slopes in the grip. With ``every = n`` the grip
+    acts at points n segments apart instead, each carrying n segments' share (contact points)."""
 
-    def __init__(self, law, weight: float, length: float, ds: float, grip: float):
+    def __init__(self, law, weight: float, length: float, ds: float, grip: float, every: int = 1):
         super().__init__(law, weight, length, ds)
         self.grip = float(grip)
+        self.share = np.where(np.arange(self.n) % int(every) == 0, float(every), 0.0)
 
     def _points(self, kappa):
         theta_mid, x_end, z_end = self.shape(kappa)
@@ -137,7 +139,7 @@ class GrippedElastica(Elastica):
         """Moment about each segment's mid-point of the weight and the grip's push beyond it."""
         ds = self.ds
         theta_mid, x, z = self._points(kappa)
-        load = factor * self.weight - self.grip * z * (x < edge)      # per area, down
+        load = factor * self.weight - self.grip * self.share * z * (x < edge)      # per area, down
         F = load * ds
         beyond = np.cumsum(F[::-1])[::-1] - F
         beyond_x = np.cumsum((F * x)[::-1])[::-1] - F * x
@@ -177,10 +179,10 @@ class GrippedElastica(Elastica):
 
 
 def gripped_overhang(law, weight, length, start, end, ds, grip, line=41.5, ramp_steps=20,
-                     push_step=2e-5) -> float:
+                     push_step=2e-5, every: int = 1) -> float:
     """Overhang [m] (``length`` less the edge's position) at which the gripped strip, its edge
     drawn back from ``length − start`` to ``length − end``, meets ``line``; NaN if not by then."""
-    strip = GrippedElastica(law, weight, length, ds, grip)
+    strip = GrippedElastica(law, weight, length, ds, grip, every)
     edge = length - start
     for f in np.linspace(0.0, 1.0, ramp_steps + 1)[1:]:
         strip.solve_gripped(edge, f)
@@ -232,6 +234,8 @@ def main(argv=None) -> int:
     parser.add_argument("--end", type=float, default=0.0175, help="the pushed strip's last overhang [m]")
     parser.add_argument("--grip", type=float, metavar="K",
                         help="also push through a grip of foundation stiffness K [N/m³]")
+    parser.add_argument("--grip-every", type=int, default=1, metavar="N",
+                        help="the grip at points N segments apart (contact points; default 1: everywhere)")
     parser.add_argument("--length", type=float, default=0.022, help="the gripped strip's length [m]")
     args = parser.parse_args(argv)
     from constitutive.material import load_material
@@ -250,7 +254,8 @@ def main(argv=None) -> int:
     print(f"pushed: meets 41.5° at {100 * overhang:.4f} cm, c = {1000 * c_pushed:.3f} mm")
     print(f"pushed / clamped bending length: {c_pushed / c_clamped:.4f}")
     if args.grip:
-        gripped = gripped_overhang(law, weight, args.length, args.start, args.end, args.ds, args.grip)
+        gripped = gripped_overhang(law, weight, args.length, args.start, args.end, args.ds, args.grip,
+                                   every=args.grip_every)
         print(f"pushed through the grip (K = {args.grip:g} N/m³): meets 41.5° at {100 * gripped:.4f} cm, "
               f"{gripped / overhang:.4f} of the perfect clamp's overhang")
     return 0

@@ -50,6 +50,9 @@ def test_a_stiffer_grip_reads_closer_to_the_perfect_clamp(elastica, fabric1):
                    for k in (1e9, 1e11))
     assert soft < stiff < 1.0
     assert 1.0 - stiff == pytest.approx((1.0 - soft) * 100 ** -0.25, rel=0.25)
+    # the same grip at points 0.25 mm apart (contact points) gives more than spread evenly
+    points = elastica.gripped_overhang(elastic, weight, 0.022, 0.0145, 0.0175, 5e-5, 1e11, every=5) / clamp
+    assert points < stiff
 
 
 def test_elastica_hangs_at_the_clamped_shell_cantilevers_chord_angle(tmp_path, elastica, fabric1):

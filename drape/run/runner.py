@@ -95,20 +95,20 @@ def _run_locked(case: Case, out_dir: Path, quiet: bool, parts: Parts | None, sou
     if resume is None:      # a summary left by an earlier run in this folder is not this run's
         (out_dir / "summary.json").unlink(missing_ok=True)
     handler = _setup_logging(out_dir, "w" if resume is None else "a")
+    wall0 = time.perf_counter()
     try:
-        header = "# Resolved case: every key with its value (SI units), as run.\n"
-        if source:
-            header += "".join(f"# {line}\n" for line in source.splitlines())
-        if resume is None:
-            (out_dir / "case.resolved.toml").write_text(header + dump_case(case))
-        log.info("case %s: %s", case.case.name, case.case.description)
-        wall0 = time.perf_counter()
-        if parts is None:
-            announce_compiling(case, quiet)
-            try:
+        try:
+            header = "# Resolved case: every key with its value (SI units), as run.\n"
+            if source:
+                header += "".join(f"# {line}\n" for line in source.splitlines())
+            if resume is None:
+                (out_dir / "case.resolved.toml").write_text(header + dump_case(case))
+            log.info("case %s: %s", case.case.name, case.case.description)
+            if parts is None:
+                announce_compiling(case, quiet)
                 parts = build(case)
-            except KeyboardInterrupt as exc:   # stopped before its first step: say so on disk
-                return _stopped_while_building(case, out_dir, exc, wall0)
+        except KeyboardInterrupt as exc:   # stopped before its first step: say so on disk
+            return _stopped_while_building(case, out_dir, exc, wall0)
         return _simulate(case, parts, out_dir, quiet, wall0, resume)
     except Exception:
         log.exception("run aborted")
