@@ -83,8 +83,9 @@ def elastica_overhang(run_dir: Path, elastic: bool) -> float:
     import tomllib
 
     from constitutive.material import load_material
+    from constitutive.units import G0
     sys.path.insert(0, str(ROOT / "benchmarks"))
-    from pushed_elastica import G0, pushed_overhang
+    from pushed_elastica import pushed_overhang
 
     case = tomllib.loads((run_dir / "case.resolved.toml").read_text())
     material = load_material(case["material"]["name"])

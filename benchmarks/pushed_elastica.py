@@ -32,7 +32,30 @@ import sys
 
 import numpy as np
 
-G0 = 9.80665
+from constitutive.units import G0
+
+
+def _equilibrium(k, law_moment, load_moment, tol: float, where: str):
+    """Curvatures ``k`` at which the law's moment (``law_moment(k) -> (M, dM/dk)``) equals the
+    load's (``load_moment(k)``, its Jacobian by forward differences): Newton, each step halved
+    until the residual falls."""
+    for _ in range(100):
+        M, dM = law_moment(k)
+        m = load_moment(k)
+        r = M - m
+        if np.abs(r).max() <= tol * max(float(np.abs(m).max()), 1e-30):
+            return k
+        h = 1e-6 * max(1.0, float(np.abs(k).max()))
+        J = np.diag(dM) - np.column_stack([(load_moment(k + h * e) - m) / h for e in np.eye(len(k))])
+        step = np.linalg.solve(J, -r)
+        lam = 1.0
+        while lam > 1e-4:
+            trial = k + lam * step
+            if np.abs(law_moment(trial)[0] - load_moment(trial)).max() < np.abs(r).max():
+                break
+            lam *= 0.5
+        k = trial
+    raise RuntimeError(f"no equilibrium {where}")
 
 
 class Elastica:
@@ -75,43 +98,20 @@ class Elastica:
         """Equilibrium of the overhang beyond segment ``clamp`` under ``factor`` × the weight;
         commits the law's state and returns the overhang's curvatures."""
         free = slice(clamp, self.n)
-        k = self.kappa[free].copy()
-        trial_state = self.state
-        for _ in range(100):
-            kfull = self.kappa.copy()
-            kfull[free] = k
-            M, dM = trial_state.trial(kfull)
-            r = M[free] - self.gravity_moment(k, factor)
-            scale = max(float(np.abs(self.gravity_moment(k, factor)).max()), 1e-30)
-            if np.abs(r).max() <= tol * scale:
-                break
-            J = np.diag(dM[free]) - self._gravity_jacobian(k, factor)
-            step = np.linalg.solve(J, -r)
-            lam = 1.0
-            while lam > 1e-4:    # halve until the residual falls
-                kt = k + lam * step
-                kfull[free] = kt
-                rt = trial_state.trial(kfull)[0][free] - self.gravity_moment(kt, factor)
-                if np.abs(rt).max() < np.abs(r).max():
-                    break
-                lam *= 0.5
-            k = kt
-        else:
-            raise RuntimeError(f"no equilibrium at clamp {clamp}, factor {factor}")
-        self.kappa[:clamp] = 0.0
-        self.kappa[free] = k
+        held = self.kappa.copy()
+        held[:clamp] = 0.0
+
+        def law_moment(k):
+            held[free] = k
+            M, dM = self.state.trial(held)
+            return M[free], dM[free]
+
+        k = _equilibrium(self.kappa[free].copy(), law_moment, lambda k: self.gravity_moment(k, factor),
+                         tol, f"at clamp {clamp}, factor {factor}")
+        held[free] = k
+        self.kappa = held
         self.state.commit(self.kappa)
         return k
-
-    def _gravity_jacobian(self, k, factor, h=1e-7):
-        """Forward differences of :meth:`gravity_moment` (dense; a few hundred segments)."""
-        base = self.gravity_moment(k, factor)
-        J = np.empty((len(k), len(k)))
-        for j in range(len(k)):
-            kp = k.copy()
-            kp[j] += h
-            J[:, j] = (self.gravity_moment(kp, factor) - base) / h
-        return J
 
     def chord_angle(self, k) -> float:
         """Angle [deg] below the horizontal of the chord from the clamp to the tip."""
@@ -147,29 +147,10 @@ class GrippedElastica(Elastica):
 
     def solve_gripped(self, edge: float, factor: float = 1.0, tol: float = 1e-10):
         """Equilibrium with the edge at ``edge`` under ``factor`` × the weight; commits the law."""
-        k = self.kappa.copy()
-        for _ in range(60):
-            M, dM = self.state.trial(k)
-            m = self.moments(k, factor, edge)
-            r = M - m
-            if np.abs(r).max() <= tol * max(float(np.abs(m).max()), 1e-30):
-                break
-            h = 1e-6 * max(1.0, float(np.abs(k).max()))
-            J = np.diag(dM) - np.column_stack([(self.moments(k + h * e, factor, edge) - m) / h
-                                               for e in np.eye(self.n)])
-            step = np.linalg.solve(J, -r)
-            lam = 1.0
-            while lam > 1e-4:
-                kt = k + lam * step
-                if np.abs(self.state.trial(kt)[0] - self.moments(kt, factor, edge)).max() < np.abs(r).max():
-                    break
-                lam *= 0.5
-            k = kt
-        else:
-            raise RuntimeError(f"no equilibrium with the edge at {edge}, factor {factor}")
-        self.kappa = k
-        self.state.commit(k)
-        return k
+        self.kappa = _equilibrium(self.kappa.copy(), self.state.trial, lambda k: self.moments(k, factor, edge),
+                                  tol, f"with the edge at {edge}, factor {factor}")
+        self.state.commit(self.kappa)
+        return self.kappa
 
     def chord_from(self, edge: float) -> float:
         """Angle [deg] below the horizontal of the chord from the strip above ``edge`` to the tip."""

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from constitutive.material import load_material
+from constitutive.units import G0
 from drape.run.runner import main as run
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
@@ -23,7 +24,7 @@ def elastica(benchmark_script):
 @pytest.fixture(scope="module")
 def fabric1():
     material = load_material("fabric1")
-    return material.warp, material.areal_mass * 9.80665
+    return material.warp, material.areal_mass * G0
 
 
 def test_elastic_elastica_pushed_meets_the_line_where_clamped_it_does(elastica, fabric1):
