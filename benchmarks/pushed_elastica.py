@@ -83,16 +83,25 @@ class Elastica:
         z_end = np.cumsum(np.sin(theta_mid)) * ds
         return theta_mid, x_end, z_end
 
+    def midpoints(self, kappa):
+        """Slope and position (x along, z down) of each segment's mid-point."""
+        theta_mid, x_end, z_end = self.shape(kappa)
+        return theta_mid, x_end - 0.5 * self.ds * np.cos(theta_mid), z_end - 0.5 * self.ds * np.sin(theta_mid)
+
+    def load_moments(self, theta_mid, x, load):
+        """Moment about each segment's mid-point of the loads beyond it [N·m/m]: ``load`` [N/m²]
+        per segment, as point loads at the mid-points of the segments beyond and spread over
+        the outer half of the segment itself."""
+        ds = self.ds
+        F = load * ds
+        beyond = np.cumsum(F[::-1])[::-1] - F
+        beyond_x = np.cumsum((F * x)[::-1])[::-1] - F * x
+        return beyond_x - x * beyond + 0.125 * ds * ds * np.cos(theta_mid) * load
+
     def gravity_moment(self, kappa_free, factor):
         """Moment of the weight beyond each segment's mid-point, about it [N·m/m]."""
-        ds = self.ds
-        theta_mid, x_end, _ = self.shape(kappa_free)
-        x_mid = x_end - 0.5 * ds * np.cos(theta_mid)
-        # segments j > i as point loads at their mid-points; the outer half of segment i itself
-        beyond_count = np.arange(len(x_mid))[::-1]
-        sum_x_beyond = np.cumsum(x_mid[::-1])[::-1] - x_mid
-        M = ds * (sum_x_beyond - beyond_count * x_mid) + 0.125 * ds * ds * np.cos(theta_mid)
-        return factor * self.weight * M
+        theta_mid, x, _ = self.midpoints(kappa_free)
+        return self.load_moments(theta_mid, x, np.full(len(x), factor * self.weight))
 
     def solve(self, clamp: int, factor: float = 1.0, tol: float = 1e-12):
         """Equilibrium of the overhang beyond segment ``clamp`` under ``factor`` × the weight;
@@ -131,19 +140,11 @@ class GrippedElastica(Elastica):
         self.grip = float(grip)
         self.share = np.where(np.arange(self.n) % int(every) == 0, float(every), 0.0)
 
-    def _points(self, kappa):
-        theta_mid, x_end, z_end = self.shape(kappa)
-        return theta_mid, x_end - 0.5 * self.ds * np.cos(theta_mid), z_end - 0.5 * self.ds * np.sin(theta_mid)
-
     def moments(self, kappa, factor, edge):
         """Moment about each segment's mid-point of the weight and the grip's push beyond it."""
-        ds = self.ds
-        theta_mid, x, z = self._points(kappa)
+        theta_mid, x, z = self.midpoints(kappa)
         load = factor * self.weight - self.grip * self.share * z * (x < edge)      # per area, down
-        F = load * ds
-        beyond = np.cumsum(F[::-1])[::-1] - F
-        beyond_x = np.cumsum((F * x)[::-1])[::-1] - F * x
-        return beyond_x - x * beyond + 0.125 * ds * ds * np.cos(theta_mid) * load
+        return self.load_moments(theta_mid, x, load)
 
     def solve_gripped(self, edge: float, factor: float = 1.0, tol: float = 1e-10):
         """Equilibrium with the edge at ``edge`` under ``factor`` × the weight; commits the law."""
@@ -154,7 +155,7 @@ class GrippedElastica(Elastica):
 
     def chord_from(self, edge: float) -> float:
         """Angle [deg] below the horizontal of the chord from the strip above ``edge`` to the tip."""
-        _, x, z = self._points(self.kappa)
+        _, x, z = self.midpoints(self.kappa)
         z_edge = float(np.interp(edge, x, z))
         return float(np.degrees(np.arctan2(z[-1] - z_edge, x[-1] - edge)))
 
