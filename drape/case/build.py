@@ -19,7 +19,7 @@ from drape.analyses.drape_coefficient import skirt_tension
 from drape.case.case import Case, check_boundaries
 from drape.case.contact_build import build_contact
 from drape.case.loads import kes_curvature, load_amplitudes
-from drape.models.perturbation import FoldPerturbation, perturbation_dofs
+from drape.models.perturbation import FoldPerturbation, StripPerturbation, perturbation_dofs
 from drape.models.plate import KirchhoffPlate, pure_bending_rotations
 from drape.models.rigidity import RigidityVariation
 from drape.models.shell import KirchhoffLoveShell
@@ -242,13 +242,15 @@ def rigidity_variation(case: Case):
 
 
 def fold_perturbation(case: Case):
-    """The ``[load.perturbation]`` field (``drape.models.perturbation.FoldPerturbation``) or None."""
+    """The ``[load.perturbation]`` field or None: a ``FoldPerturbation`` round a Cusick disc, a
+    ``StripPerturbation`` along a strip or rectangle (``drape.models.perturbation``)."""
     p = case.load.perturbation
     if p is None or p.kind == "none":
         return None
-
-    return FoldPerturbation(disc_radius=0.5 * case.mesh.disc_diameter,
-                            specimen_radius=0.5 * case.mesh.specimen_diameter, **p.model_dump())
+    if case.mesh.kind == "cusick":
+        return FoldPerturbation(disc_radius=0.5 * case.mesh.disc_diameter,
+                                specimen_radius=0.5 * case.mesh.specimen_diameter, **p.model_dump())
+    return StripPerturbation(length=float(case.mesh.length), **p.model_dump())
 
 
 def initial_fields(case: Case, model):

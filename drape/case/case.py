@@ -149,8 +149,9 @@ class Case(_Section):
                 "balance at every step (set stop.out_of_balance = 0 or leave it out)"
             )
         self._agitation_is_resolved()
-        if self.load.perturbation is not None and self.mesh.kind != "cusick":
-            raise _rule(f"load.perturbation needs mesh.kind = 'cusick' (got '{self.mesh.kind}')")
+        if self.load.perturbation is not None and self.mesh.kind not in PERTURBABLE_MESHES:
+            raise _rule(f"load.perturbation needs mesh.kind in {PERTURBABLE_MESHES} "
+                        f"(got '{self.mesh.kind}')")
         if self.case.analysis == "kes" and self.load.kes is None:
             raise _rule("case.analysis = 'kes' needs a [load.kes] drive")
         if self.case.analysis == "cycle" and (self.load.gravity is None
@@ -215,6 +216,8 @@ class Case(_Section):
 
 
 STEPS_PER_SHAKE = 10
+#: Meshes a [load.perturbation] field is defined on: round the Cusick disc, or along x.
+PERTURBABLE_MESHES = ("cusick", "strip", "rectangle")
 """Fewest time steps a cycle of ``[load.agitation]`` may take."""
 
 _MESH_VARIANTS = {"strip": StripMesh, "rectangle": RectangleMesh, "cusick": CusickMesh,

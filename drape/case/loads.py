@@ -131,13 +131,15 @@ class KesDrive(_Section):
 
 
 class Perturbation(_Section):
-    """[load.perturbation]: seeded out-of-plane imperfection of a Cusick specimen
-    (``drape.models.perturbation.FoldPerturbation``) so that the symmetric drape can buckle into folds:
-    ``w = A s(ρ) g(φ)`` with s = ((ρ − r_disc)/(R − r_disc))², zero with its slope at the disc."""
+    """[load.perturbation]: seeded out-of-plane imperfection so that a symmetric drape can buckle
+    into folds (``drape.models.perturbation``). On a Cusick specimen ``w = A s(ρ) g(φ)`` with
+    s = ((ρ − r_disc)/(R − r_disc))², zero with its slope at the disc; on a strip or rectangle
+    ``w = A ξ² g(ξ)``, ξ = x / length, zero with its slope at the left end, g a sum of cos(k π ξ + φ_k)
+    (k half-waves over the length)."""
 
     kind: Literal["none", "lobed", "random"] = "random"
-    """``lobed``: one mode cos(n φ + φ0) (imposes n folds); ``random``: modes k_min..k_max with
-    seeded amplitudes and phases (the fabric picks its node count)."""
+    """``lobed``: one mode cos(n φ + φ0) (imposes n folds; on a strip n half-waves); ``random``:
+    modes k_min..k_max with seeded amplitudes and phases (the fabric picks its node count)."""
     amplitude: float = Field(1e-3, ge=0)
     """A: fraction of the weight (target force), metres (displacement) or m/s (velocity)."""
     seed: int = 0
