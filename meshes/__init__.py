@@ -8,7 +8,7 @@ from .annulus import cusick_annulus
 from .circle import circle
 from .io import load_mesh, save_mesh
 from .quality import MeshError, MeshQuality, check_mesh
-from .rectangle import rectangle, strip
+from .rectangle import graded_nodes, rectangle, strip
 
-__all__ = ["rectangle", "strip", "cusick_annulus", "circle", "load_mesh", "save_mesh", "check_mesh",
+__all__ = ["rectangle", "strip", "graded_nodes", "cusick_annulus", "circle", "load_mesh", "save_mesh", "check_mesh",
            "MeshError", "MeshQuality"]

@@ -15,7 +15,7 @@ from skfem import MeshTri
 
 from .quality import check_mesh
 
-__all__ = ["rectangle", "strip", "positive", "positive_int"]
+__all__ = ["rectangle", "strip", "graded_nodes", "positive", "positive_int"]
 
 _DIAGONALS = ("alternate", "right", "left")
 
@@ -56,7 +56,7 @@ def _grid_triangles(nx: int, ny: int, diagonals: str) -> np.ndarray:
 
 
 def rectangle(lx: float, ly: float, nx: int, ny: int, origin=(0.0, 0.0),
-              diagonals: str = "alternate", min_angle: float = 5.0) -> MeshTri:
+              diagonals: str = "alternate", min_angle: float = 5.0, x_nodes=None) -> MeshTri:
     """Structured triangulation of ``[x0, x0 + lx] × [y0, y0 + ly]``.
 
     Parameters
@@ -72,6 +72,9 @@ def rectangle(lx: float, ly: float, nx: int, ny: int, origin=(0.0, 0.0),
         when nx, ny are even), ``"right"`` or ``"left"``.
     min_angle
         Smallest admissible triangle angle in degrees (checked).
+    x_nodes
+        Node abscissae from ``0`` to ``lx`` (increasing; e.g. :func:`graded_nodes`), instead of
+        ``nx`` equal cells; ``nx`` is then ``len(x_nodes) - 1``.
 
     Returns
     -------
@@ -89,7 +92,9 @@ def rectangle(lx: float, ly: float, nx: int, ny: int, origin=(0.0, 0.0),
     if diagonals not in _DIAGONALS:
         raise ValueError(f"'diagonals' must be one of {_DIAGONALS}, got {diagonals!r}")
     x0, y0 = (float(v) for v in origin)
-    x, y = np.meshgrid(x0 + np.linspace(0.0, lx, nx + 1),
+    xs = np.linspace(0.0, lx, nx + 1) if x_nodes is None else _checked_nodes(x_nodes, lx)
+    nx = xs.size - 1
+    x, y = np.meshgrid(x0 + xs,
                        y0 + np.linspace(0.0, ly, ny + 1), indexing="xy")
     # pin the far edges exactly (linspace already does; keep it explicit)
     x[:, -1], y[-1, :] = x0 + lx, y0 + ly
@@ -105,14 +110,52 @@ def rectangle(lx: float, ly: float, nx: int, ny: int, origin=(0.0, 0.0),
     return mesh
 
 
+def _checked_nodes(x_nodes, lx: float) -> np.ndarray:
+    xs = np.asarray(x_nodes, dtype=float)
+    if xs.ndim != 1 or xs.size < 2 or not np.all(np.isfinite(xs)) or np.any(np.diff(xs) <= 0):
+        raise ValueError("'x_nodes' must be increasing finite abscissae, at least two")
+    if abs(xs[0]) > 1e-12 * lx or abs(xs[-1] - lx) > 1e-12 * lx:
+        raise ValueError(f"'x_nodes' must run from 0 to lx = {lx!r}, got {xs[0]!r} to {xs[-1]!r}")
+    return xs
+
+
+def graded_nodes(length: float, n: int, start: float, end: float, n_zone: int) -> np.ndarray:
+    """Node abscissae on ``[0, length]``: ``n_zone`` equal cells on ``[start, end]``, cells of
+    about ``length / n`` outside it.
+
+    For a strip that bends sharply where it passes an edge (a Peirce tester's platform): the
+    zone that passes the edge gets fine cells, the rest keeps the mesh's own.
+
+    Examples
+    --------
+    >>> x = graded_nodes(0.022, 44, 0.0035, 0.0095, 60)
+    >>> len(x) - 1, round(float(np.diff(x).min()), 6), round(float(np.diff(x).max()), 6)
+    (92, 0.0001, 0.0005)
+    """
+    length = positive("length", length)
+    n, n_zone = positive_int("n", n), positive_int("n_zone", n_zone)
+    if not 0.0 <= start < end <= length:
+        raise ValueError(f"the fine zone [{start!r}, {end!r}] must lie in [0, {length!r}] "
+                         "with start < end")
+    h = length / n
+    parts = [np.linspace(start, end, n_zone + 1)]
+    if start > 0.0:
+        parts.insert(0, np.linspace(0.0, start, max(1, round(start / h)) + 1)[:-1])
+    if end < length:
+        parts.append(np.linspace(end, length, max(1, round((length - end) / h)) + 1)[1:])
+    return np.concatenate(parts)
+
+
 def strip(length: float, width: float, n_length: int, n_width: int = 1,
-          origin=(0.0, 0.0), diagonals: str = "alternate", min_angle: float = 5.0) -> MeshTri:
+          origin=(0.0, 0.0), diagonals: str = "alternate", min_angle: float = 5.0,
+          x_nodes=None) -> MeshTri:
     """Fabric strip along x, clamped at ``x = x0`` (cantilever, KES-FB strip).
 
     Same as :func:`rectangle` (``n_length`` × ``n_width`` cells; keep the cells
     near-square: a 2 × 0.02 m strip with 1 cell across needs
     ``min_angle`` below atan(width/n_width ÷ cell length)) plus the boundaries ``clamped`` (the ``x = x0``
-    end, same facets as ``left``) and ``free_end`` (``x = x0 + length``).
+    end, same facets as ``left``) and ``free_end`` (``x = x0 + length``). ``x_nodes`` as in
+    :func:`rectangle`.
 
     Examples
     --------
@@ -120,6 +163,6 @@ def strip(length: float, width: float, n_length: int, n_width: int = 1,
     >>> bool(np.array_equal(m.boundaries["clamped"], m.boundaries["left"]))
     True
     """
-    mesh = rectangle(length, width, n_length, n_width, origin, diagonals, min_angle)
+    mesh = rectangle(length, width, n_length, n_width, origin, diagonals, min_angle, x_nodes)
     return mesh.with_boundaries({"clamped": mesh.boundaries["left"],
                                  "free_end": mesh.boundaries["right"]})

@@ -96,6 +96,10 @@ def test_good_case_validates_with_defaults():
         (["model.kinematics='large'", "mesh.element='argyris'", "load.agitation.acceleration=0.3",
           "model.damping.drag_coefficient=1.2"],
          "load.agitation cannot be combined with model.damping.drag_coefficient"),
+        (["mesh.fine_zone.start='1 cm'", "mesh.fine_zone.end='6 cm'", "mesh.fine_zone.nx=10"],
+         "mesh.fine_zone.end = 0.06 m lies beyond the strip's length 0.05 m"),
+        (["mesh.fine_zone.start='3 cm'", "mesh.fine_zone.end='2 cm'", "mesh.fine_zone.nx=10"],
+         "mesh.fine_zone.start = 0.03 m must be below mesh.fine_zone.end = 0.02 m"),
         (["load.agitation.acceleration=0.3", "load.agitation.frequency='20 Hz'"],
          "solver.dt = 0.01 s is too long for load.agitation.frequency = 20 Hz: at least 10 steps "
          "a cycle need solver.dt <= 0.005 s"),

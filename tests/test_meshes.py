@@ -1,5 +1,6 @@
 """Mesh generators, import and checks (meshes/)."""
 import math
+from pathlib import Path
 
 import meshio
 import numpy as np
@@ -37,6 +38,28 @@ def test_strip_named_ends():
     assert np.abs(facet_midpoints(mesh, "free_end")[0] - 0.2).max() < 1e-15
     assert len(mesh.boundaries["clamped"]) == 2
     assert check_mesh(mesh).min_angle_deg == pytest.approx(math.degrees(math.atan(1.0 / 1.25)), rel=1e-12)
+
+
+def test_strip_with_a_fine_zone_has_its_cells_and_the_case_builds_it():
+    """``[mesh.fine_zone]``: equal cells of (end − start) / nx in the zone, about length / nx
+    outside it, the ends and the named boundaries where a uniform strip has them."""
+    from drape.case.build import _make_mesh
+    from drape.case.case import load_case
+
+    case = load_case(Path(__file__).resolve().parents[1] / "cases" / "peirce_platform.toml",
+                     ["mesh.nx=44", "mesh.width='0.05 cm'", "mesh.fine_zone.start='3.5 mm'",
+                      "mesh.fine_zone.end='9.5 mm'", "mesh.fine_zone.nx=60"])
+    mesh = _make_mesh(case.mesh)
+    x = np.unique(mesh.p[0])
+    h = np.diff(x)
+    inside = (x[:-1] >= 3.5e-3 - 1e-12) & (x[1:] <= 9.5e-3 + 1e-12)
+    np.testing.assert_allclose(h[inside], 1e-4, rtol=1e-9)
+    assert inside.sum() == 60
+    np.testing.assert_allclose(h[~inside], 5e-4, rtol=1e-9)
+    assert x[0] == 0.0 and x[-1] == pytest.approx(0.022, rel=1e-15)
+    uniform = strip(0.022, 0.0005, 44 + 48)
+    assert sorted(mesh.boundaries) == sorted(uniform.boundaries)
+    assert len(mesh.boundaries["clamped"]) == 1 and len(mesh.boundaries["top"]) == 92
 
 
 def test_cusick_annulus_geometry():

@@ -82,6 +82,8 @@ def triangles_asked(spec) -> float:
     >>> triangles_asked(CusickMesh(kind="cusick", n_radial=6, n_circumferential=72, refine=1))
     3456.0
     """
+    if spec.kind == "strip" and spec.fine_zone is not None:
+        return 2.0 * (spec.nx + spec.fine_zone.nx) * spec.ny
     if spec.kind in ("strip", "rectangle"):
         return 2.0 * spec.nx * spec.ny
     if spec.kind == "circle":
@@ -104,7 +106,7 @@ def _make_mesh(spec):
                             f"mesh.target_size and mesh.refine")
 
     if spec.kind == "strip":
-        return meshes.strip(spec.length, spec.width, spec.nx, spec.ny)
+        return meshes.strip(spec.length, spec.width, spec.nx, spec.ny, x_nodes=spec.x_nodes())
     if spec.kind == "rectangle":
         return meshes.rectangle(spec.length, spec.width, spec.nx, spec.ny)
     if spec.kind == "circle":

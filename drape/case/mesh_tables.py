@@ -11,12 +11,30 @@ from pydantic import (
 
 from drape.case.quantities import Q, _rule, _Section
 
-__all__ = ['StripMesh', 'RectangleMesh', 'CusickMesh', 'CircleMesh', 'FileMesh', 'MeshSpec']
+__all__ = ['FineZone', 'StripMesh', 'RectangleMesh', 'CusickMesh', 'CircleMesh', 'FileMesh', 'MeshSpec']
 
 
 class _MeshBase(_Section):
     element: Literal["morley", "argyris"] = "argyris"
     """Finite element: ``morley`` (quadratic, small deflection only) or ``argyris`` (quintic)."""
+
+
+class FineZone(_Section):
+    """[mesh.fine_zone] of a strip: finer cells on a stretch of its length, e.g. where it passes
+    a tester's edge and bends sharply (``meshes.graded_nodes``)."""
+
+    start: Q("m", ge=0)
+    """Where the zone begins along x [m]."""
+    end: Q("m", gt=0)
+    """Where it ends [m]; outside it, cells of about length / nx."""
+    nx: int = Field(ge=1)
+    """Divisions of the zone."""
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        if self.start >= self.end:
+            raise _rule(f"@.start = {self.start:g} m must be below @.end = {self.end:g} m")
+        return self
 
 
 class StripMesh(_MeshBase):
@@ -32,6 +50,24 @@ class StripMesh(_MeshBase):
     """Divisions along the length."""
     ny: int = Field(1, ge=1)
     """Divisions across the width."""
+    fine_zone: FineZone | None = None
+    """Finer cells on a stretch of the length (none by default)."""
+
+    @model_validator(mode="after")
+    def _zone_inside(self):
+        if self.fine_zone is not None and self.fine_zone.end > self.length:
+            raise _rule(f"@.fine_zone.end = {self.fine_zone.end:g} m lies beyond the strip's "
+                        f"length {self.length:g} m")
+        return self
+
+    def x_nodes(self):
+        """Node abscissae along the length, or None for nx equal cells."""
+        if self.fine_zone is None:
+            return None
+        from meshes import graded_nodes
+
+        z = self.fine_zone
+        return graded_nodes(self.length, self.nx, z.start, z.end, z.nx)
 
 
 class RectangleMesh(_MeshBase):
