@@ -21,8 +21,10 @@ unless ``--set material.face_down_ratio=...``, so it predicts no difference) and
 series (``obsK``: the fall of DC at a fixed node count).
 
 ``--library-without-own LIB`` gives each fabric a library of its own: LIB's forward runs less
-those its folder made in an earlier run of this script (``DIR/fabricNN/library``). Each fabric
-is then identified as a lab would identify a new fabric after the others.
+those its folder made in an earlier run of this script (``DIR/fabricNN/library``), but for the
+initial design's, which every search runs first whatever its scans. Each fabric is then
+identified as a lab would identify a new fabric after the others (or with the package's
+bundled runs, made of the others).
 
 ``--scans-alone`` runs nothing: it judges each fabric's training scans as the prediction of its
 test scans by the same target: what a model that reproduced its training specimens exactly
@@ -51,7 +53,9 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from drape.identification.cli import main as identify  # noqa: E402
 from identifiability import add_forward_options  # noqa: E402
 from drape.identification.objective import misfit  # noqa: E402
+from drape.identification.parameters import DEFAULT_FREE, parse_box  # noqa: E402
 from drape.identification.store import append_evaluation, read_evaluations  # noqa: E402
+from drape.identification.surrogate import design  # noqa: E402
 
 KEY = re.compile(r"fabric(?P<fabric>\d+)_sample(?P<sample>\d+)(?:_(?P<series>capture|obs)(?P<n>\d+))?$")
 COLUMNS = ["fabric", "train", "test", "status", "bending_length_cm", "interval_c",
@@ -142,9 +146,22 @@ def judged(predicted, test) -> dict:
 
 def without_own(source: Path, library: Path, folder: str) -> int:
     """Write to ``library`` the evaluations of the library ``source`` that no run of ``folder``
-    (a fabric's folder of this script) made; return how many."""
+    (a fabric's folder of this script) made, and those at the initial design's points whoever
+    made them; return how many.
+
+    The initial design (the box's corners and Latin-hypercube points of a fixed seed,
+    :func:`drape.identification.surrogate.design`) is the same for every fabric and does not
+    depend on its scans: a library that the other fabrics made holds it whichever fabric ran it
+    first."""
+    initial = design(parse_box([], list(DEFAULT_FREE)), 2 * len(DEFAULT_FREE))
+
+    def at_design(e) -> bool:
+        return any(all(k in e.point and np.isclose(e.point[k], q[k], rtol=1e-5, atol=0) for k in q)
+                   for q in initial)
+
     kept = [e for e in read_evaluations(source)
-            if not any(Path(r.get("run_dir") or "").parts[-4:-3] == (folder,) for r in e.runs)]
+            if at_design(e)
+            or not any(Path(r.get("run_dir") or "").parts[-4:-3] == (folder,) for r in e.runs)]
     library.mkdir(parents=True, exist_ok=True)
     for e in kept:
         append_evaluation(library, e)

@@ -307,16 +307,20 @@ def test_stop_replay_counts_the_points_run_before_one_comes_back(benchmark_scrip
 
 def test_a_fabrics_library_leaves_out_its_own_runs(benchmark_script, tmp_path):
     """benchmarks/identify_fabrics.py --library-without-own: a fabric's library keeps the other
-    fabrics' forward runs and none of its own folder's."""
+    fabrics' forward runs and none of its own folder's, but for those at the initial design's
+    points (here the box's low corner), which every search runs whatever its scans."""
     script = benchmark_script("identify_fabrics")
     source = tmp_path / "lib"
-    for folder, name in (("fabric04", "e000"), ("fabric14", "e000"), ("fabric04", "identified")):
+    point = {"bending_length": 1.0, "hysteresis": 0.5}
+    corner = {"bending_length": 0.6, "hysteresis": 0.25}
+    for folder, name, at in (("fabric04", "e000", point), ("fabric14", "e000", point),
+                             ("fabric04", "identified", point), ("fabric04", "e001", corner)):
         runs = [{"seed": 0, "status": "settled", "run_dir": str(tmp_path / folder / "runs" / name / "s0"),
                  "wall_time_s": 1.0, "reason": "", "drape": None}]
-        append_evaluation(source, Evaluation({"bending_length": 1.0}, "s", runs, name))
-    assert script.without_own(source, tmp_path / "own4", "fabric04") == 1
+        append_evaluation(source, Evaluation(at, "s", runs, name))
+    assert script.without_own(source, tmp_path / "own4", "fabric04") == 2
     assert [e.runs[0]["run_dir"] for e in read_evaluations(tmp_path / "own4")] == [
-        str(tmp_path / "fabric14" / "runs" / "e000" / "s0")]
+        str(tmp_path / "fabric14" / "runs" / "e000" / "s0"), str(tmp_path / "fabric04" / "runs" / "e001" / "s0")]
 
 
 def test_the_split_puts_every_capture_of_a_specimen_in_its_half(benchmark_script):
