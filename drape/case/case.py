@@ -216,9 +216,9 @@ class Case(_Section):
 
 
 STEPS_PER_SHAKE = 10
+"""Fewest time steps a cycle of ``[load.agitation]`` may take."""
 #: Meshes a [load.perturbation] field is defined on: round the Cusick disc, or along x.
 PERTURBABLE_MESHES = ("cusick", "strip", "rectangle")
-"""Fewest time steps a cycle of ``[load.agitation]`` may take."""
 
 _MESH_VARIANTS = {"strip": StripMesh, "rectangle": RectangleMesh, "cusick": CusickMesh,
                   "circle": CircleMesh, "file": FileMesh}

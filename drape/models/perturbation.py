@@ -268,7 +268,7 @@ class StripPerturbation(_SeededImperfection):
         g, g1, g2 = self._series(np.pi * xi)
         L, k = self.length, np.pi
         # d/dx of g(π ξ) is (π / L) g'; of ξ², 2 ξ / L
-        return (xi**2, 2 * xi / L, 2 / L**2 + 0 * xi), (g, k * g1 / L, k**2 * g2 / L**2)
+        return (xi**2, 2 * xi / L, np.full_like(xi, 2 / L**2)), (g, k * g1 / L, k**2 * g2 / L**2)
 
     def value(self, x):
         """``w`` at points ``x`` of shape (2, ...)."""
