@@ -83,12 +83,13 @@ def test_platform_meets_the_line_within_2_percent_of_a_perfect_clamp(tmp_path, e
 def test_the_grip_converges_with_the_exact_tangent_and_not_with_the_projected_one(tmp_path):
     """Held between platform and ruler, the strip's first load step converges with the exact
     barrier Hessian; projected on the positive semi-definite cone pair by pair (IPC's), the
-    tangent overstates the grip's stiffness and the residual only halves per iteration, so the
-    step fails at every bisection (docs/theory.md §7)."""
+    tangent overstates the grip's stiffness and the residual falls only by a constant factor per
+    iteration (a half with IPC's own pairs, under 5 % with one pair per point), so the step fails
+    at every bisection (docs/theory.md §7)."""
     case = str(CASES / "peirce_platform.toml")
     short = ["--quiet", "--set", "solver.t_end=0.04"]
     assert run([case, "--out", str(tmp_path / "exact"), *short]) == 0
     assert run([case, "--out", str(tmp_path / "projected"), *short, "--set", "contact.hessian=projected"]) == 3
     summary = json.loads((tmp_path / "projected" / "summary.json").read_text())
     norms = [float(v) for v in summary["reason"].split("residual norms [")[1].split("]")[0].split(", ")]
-    assert all(0.4 < b / a < 0.6 for a, b in zip(norms, norms[1:]))     # linear, ratio ½
+    assert all(0.4 < b / a < 1.0 for a, b in zip(norms, norms[1:]))     # linear, not quadratic

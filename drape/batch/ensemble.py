@@ -90,10 +90,18 @@ def ensemble_stats(records: list[dict]) -> dict:
     >>> s = ensemble_stats(recs)
     >>> s["DC_percent"]["mean"], s["DC_percent"]["std"], s["nodes"]["histogram"], s["nodes"]["agreement"]
     (52.0, 2.0, {'5': 2, '6': 1}, '2 of 3 seeds gave 5 nodes')
+
+    A run that finished without a drape to measure (``analysis = "none"``) counts as finished:
+
+    >>> s = ensemble_stats([{"name": "drop.s0", "status": "completed", "DC_percent": ""},
+    ...                     {"name": "drop.s1", "status": "failed", "DC_percent": ""}])
+    >>> s["finished"], s["not_finished"], s["DC_percent"]["mean"]
+    (1, {'drop.s1': 'failed'}, None)
     """
-    done = [r for r in records if r.get("status") in GOOD and _number(r.get("DC_percent")) is not None]
-    dc = [_number(r["DC_percent"]) for r in done]
-    nodes = [int(_number(r["nodes"])) for r in done if _number(r.get("nodes")) is not None]
+    done = [r for r in records if r.get("status") in GOOD]
+    measured = [r for r in done if _number(r.get("DC_percent")) is not None]
+    dc = [_number(r["DC_percent"]) for r in measured]
+    nodes = [int(_number(r["nodes"])) for r in measured if _number(r.get("nodes")) is not None]
     dc_mean, dc_std = _spread(dc)
     n_mean, n_std = _spread(nodes)
     hist = Counter(nodes)
@@ -113,7 +121,7 @@ def ensemble_stats(records: list[dict]) -> dict:
         "not_finished": {r["name"]: r.get("status", "") for r in records if r not in done},
         "DC_percent": {"mean": dc_mean, "std": dc_std, "min": min(dc, default=None),
                        "max": max(dc, default=None),
-                       "values": {r["name"]: _number(r["DC_percent"]) for r in done}},
+                       "values": {r["name"]: _number(r["DC_percent"]) for r in measured}},
         "nodes": {"mean": n_mean, "std": n_std,
                   "histogram": {str(k): hist[k] for k in sorted(hist)},
                   "mode": mode, "mode_count": mode_count, "agreement": agreement},

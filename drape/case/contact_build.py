@@ -99,7 +99,7 @@ def build_contact(spec, shell, material, u0=None) -> Contact:
         raise ContactInputError("contact.thickness: the material has no thickness; give contact.thickness")
     _check_size("contact", float(len(shell.w)) * float(spec.subdivision) ** 2, "contact.subdivision")
     points, triangles, dofs = shell.contact_vertices(spec.subdivision)
-    scene = Scene(points, triangles, [_body(b) for b in spec.body], spec.self_contact)
+    scene = Scene(points, triangles, [_body(b) for b in spec.body], spec.self_contact, spec.pairs)
     kappa = spec.barrier_stiffness
     if kappa is None:
         area = float(shell.w.sum())

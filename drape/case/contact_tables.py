@@ -194,6 +194,11 @@ class ContactSpec(_Section):
     positive semi-definite cone pair by pair, as IPC does, or ``exact``. Where the fabric is
     held between two bodies (a grip) the projected tangent overstates the barrier's stiffness
     and Newton converges only linearly; the exact one converges there (docs/theory.md §7)."""
+    pairs: Literal["ipc", "per_point"] = "ipc"
+    """Which contact pairs push: ``ipc``, every pair of primitives within reach in full (a point
+    resting on a triangulated body is pushed once per triangle, edge and vertex near it, and
+    harder as it passes a body's edge); ``per_point``, each fabric contact point once, by its
+    distance to the body, continuous across the body's edges (docs/theory.md §7)."""
     body: list[BodySpec] = []
     """``[[contact.body]]``: the rigid bodies."""
 

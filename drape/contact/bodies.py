@@ -7,6 +7,19 @@ colliding with one another and, unless self-contact is on, the fabric from colli
 itself (neighbouring primitives are excluded by ipctk from the topology). Half-spaces
 (:class:`drape.contact.half_space.HalfSpace`) have no vertices: the scene hands their
 plane–vertex candidates to the collision set (:meth:`Scene.plane_candidates`).
+
+Which pairs push (:data:`PAIR_SETS`): IPC's own set counts every pair of primitives within
+reach in full, so a fabric vertex resting on a triangulated body is pushed once per triangle,
+edge and vertex of the body near it (one to five times over on a flat plate, with where it
+lies), and up to four times as hard within d̂ of a body's convex edge: a hump in the energy
+as steep as the barrier, which a point pushed over the edge has to pass. ``"per_point"``
+weighs the pairs (ipctk's area-weighted improved max approximator, Li et al. 2023,
+*Convergent Incremental Potential Contact*, with the collision mesh's areas set here): each
+fabric contact point is pushed once, by its distance to the body's surface, which falls
+smoothly across a body's edges. Where a body's surface folds (its edges and corners), its
+edges against the fabric's edges and its vertices against the fabric's faces keep a tenth of
+a pair's weight, enough to keep the fold out of the fabric between its points (the barrier
+still grows without bound there).
 """
 from __future__ import annotations
 
@@ -20,7 +33,14 @@ from .errors import ContactInputError
 from .half_space import HalfSpace
 from .motion import OnPath
 
-__all__ = ["RigidBody", "HalfSpace", "Scene", "ContactInputError"]
+__all__ = ["RigidBody", "HalfSpace", "Scene", "ContactInputError", "PAIR_SETS", "BACKSTOP_WEIGHT"]
+
+#: ``pairs`` of :class:`Scene`: IPC's set of primitive pairs, or one pair per fabric point.
+PAIR_SETS = ("ipc", "per_point")
+
+#: Weight of an edge–edge pair, and of a body vertex against a fabric face, relative to a
+#: fabric point's pair, under ``pairs = "per_point"``.
+BACKSTOP_WEIGHT = 0.1
 
 
 @dataclass(frozen=True)
@@ -61,6 +81,19 @@ class RigidBody(OnPath):
             raise ContactInputError(f"body {self.name!r}: mu = {self.mu!r} must be >= 0")
 
 
+def _fold_edges(vertices, faces, faces_to_edges, n_edges: int, flat: float = 1e-6) -> np.ndarray:
+    """Whether each edge is a fold of its surface: on one face only (a border), or between two
+    faces whose normals differ by more than ``flat`` radians."""
+    normal = np.cross(vertices[faces[:, 1]] - vertices[faces[:, 0]], vertices[faces[:, 2]] - vertices[faces[:, 0]])
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    edge = faces_to_edges.ravel()
+    count = np.bincount(edge, minlength=n_edges)
+    summed = np.zeros((n_edges, 3))
+    np.add.at(summed, edge, np.repeat(normal, 3, axis=0))
+    # two unit normals sum to 2 cos(θ/2): shorter than 2 by more than θ²/4 where they part by θ
+    return (count != 2) | (np.linalg.norm(summed, axis=1) < 2.0 - 0.25 * flat ** 2)
+
+
 class Scene:
     """The fabric's vertices and triangles and the bodies' surfaces in one collision mesh.
 
@@ -73,6 +106,8 @@ class Scene:
     bodies : sequence of RigidBody or HalfSpace
     self_contact : bool
         Let the fabric collide with itself (primitives sharing a vertex never do).
+    pairs : {"ipc", "per_point"}
+        Which pairs push and how hard (:data:`PAIR_SETS`, the module's notes).
 
     Examples
     --------
@@ -84,7 +119,10 @@ class Scene:
     (3, 7, [-1, -1, -1, 0, 0, 0, 0])
     """
 
-    def __init__(self, points, triangles, bodies=(), self_contact: bool = False):
+    def __init__(self, points, triangles, bodies=(), self_contact: bool = False, pairs: str = "ipc"):
+        if pairs not in PAIR_SETS:
+            raise ContactInputError(f"contact.pairs = {pairs!r} must be one of {', '.join(PAIR_SETS)}")
+        self.per_point = pairs == "per_point"
         points = np.asarray(points, dtype=float)
         triangles = np.asarray(triangles, dtype=np.int32)
         self.bodies = tuple(bodies)
@@ -109,6 +147,8 @@ class Scene:
         self.body_of_vertex = np.concatenate(owner)
         self.edges = ipctk.edges(self.faces)
         self.mesh = ipctk.CollisionMesh(self.rest, self.edges, self.faces)
+        if self.per_point:
+            self._weigh_per_point()
         # bodies never collide with one another; the fabric with itself only when asked (the
         # components filter is given every face, a vertex outside its faces having no component,
         # and faces tying every fabric vertex to the first: a fabric in pieces is one component)
@@ -119,6 +159,26 @@ class Scene:
             self._filters.append(ipctk.make_connected_components_filter(np.vstack([self.faces, tie])))
         self._filters.append(self._filters[0] if len(self._filters) == 1 else self._filters[0] & self._filters[1])
         self.mesh.can_collide = self._filters[-1]   # the filters stay referenced by the scene
+
+    def _weigh_per_point(self) -> None:
+        """The collision mesh's areas that make ipctk's area weights one per fabric point.
+
+        ipctk weighs a vertex–face pair by a quarter of the vertex's area, an edge–edge pair by
+        a quarter of the two edges' areas summed, and a plane–vertex pair by the vertex's area
+        (``Contact`` sets those back to one); a pair of weight zero is dropped. A fabric point
+        gets area 4 (its pairs weigh 1); a body's edges where its surface folds, and their
+        vertices, get :data:`BACKSTOP_WEIGHT` (× 4): only there can a body meet the fabric
+        between its points. The fabric's edges get it too when it collides with itself."""
+        n = self.n_fabric
+        folds = np.zeros(len(self.edges), dtype=bool)
+        folds[self.edges.min(axis=1) >= n] = True
+        folds &= _fold_edges(self.rest, self.faces, np.asarray(self.mesh.faces_to_edges), len(self.edges))
+        fabric_edge = self.edges.max(axis=1) < n
+        backstop = 4.0 * BACKSTOP_WEIGHT
+        self.mesh.edge_areas = np.where(folds | (fabric_edge & self.self_contact), backstop, 0.0)
+        on_fold = np.zeros(len(self.rest), dtype=bool)
+        on_fold[self.edges[folds].ravel()] = True
+        self.mesh.vertex_areas = np.where(np.arange(len(self.rest)) < n, 4.0, np.where(on_fold, backstop, 0.0))
 
     def body_displacements(self, t: float) -> np.ndarray:
         """Displacement (n_body_vertices, 3) of every body vertex at ``t``."""

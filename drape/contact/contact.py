@@ -139,6 +139,9 @@ class Contact:
         """The pairs closer than ``dmin + dhat`` at ``x`` (bodies at ``t``); ``which``: only
         those of the half-space with that index in the scene's bodies."""
         collisions = ipctk.NormalCollisions()
+        if self.scene.per_point:
+            collisions.collision_set_type = ipctk.NormalCollisions.CollisionSetType.IMPROVED_MAX_APPROX
+            collisions.use_area_weighting = True
         if not self.scene.half_spaces:
             collisions.build(self.scene.mesh, x, self.dhat, self.dmin)
             return collisions
@@ -148,6 +151,12 @@ class Contact:
             candidates.build(self.scene.mesh, x, 0.5 * (self.dhat + self.dmin))
         candidates.pv_candidates = self.scene.plane_candidates(x, t, self.dhat + self.dmin, which)
         collisions.build(candidates, self.scene.mesh, x, self.dhat, self.dmin)
+        if self.scene.per_point and len(collisions.pv_collisions):
+            # ipctk weighs a plane–vertex pair by the whole vertex area (4 here): one pair each
+            planes = collisions.pv_collisions
+            for pair in planes:
+                pair.weight = 1.0
+            collisions.pv_collisions = planes
         return collisions
 
     def collisions(self, u, t: float) -> ipctk.NormalCollisions:
