@@ -41,16 +41,23 @@ def plane(point, normal, size=3.0):
 
 
 def flat(kind, name, point, normal=(0, 0, 1), **kw):
-    """A flat body: the two-triangle patch of :func:`plane` or the exact plane of a half-space."""
-    if kind == "patch":
+    """A flat body: the two-triangle patch of :func:`plane` (``patch``, and ``per_point``, the
+    patch with one pair per fabric point) or the exact plane of a half-space."""
+    if kind in ("patch", "per_point"):
         return RigidBody(name, plane(point, normal), **kw)
     return HalfSpace(name, point, normal, **kw)
 
 
-FLAT = pytest.mark.parametrize("kind", ["patch", "half_space"])
+FLAT = pytest.mark.parametrize("kind", ["patch", "half_space", "per_point"])
 
 
-def sheet(L=0.2, W=0.2, nx=4, ny=4, bodies=(), *, mu_self=0.0, eps_v=1e-3, force_per_vertex=None, **shell_kw):
+def pairs_of(kind) -> str:
+    """The scene's ``pairs`` for a :data:`FLAT` kind."""
+    return "per_point" if kind == "per_point" else "ipc"
+
+
+def sheet(L=0.2, W=0.2, nx=4, ny=4, bodies=(), *, mu_self=0.0, eps_v=1e-3, force_per_vertex=None, pairs="ipc",
+          **shell_kw):
     """A free elastic sheet on [0, L] × [0, W] at z = 0 with contact to ``bodies``."""
     mesh = MeshTri.init_tensor(np.linspace(0, L, nx + 1), np.linspace(0, W, ny + 1))
     kw = dict(clamped=(), rayleigh=(0.0, 0.0))
@@ -59,8 +66,8 @@ def sheet(L=0.2, W=0.2, nx=4, ny=4, bodies=(), *, mu_self=0.0, eps_v=1e-3, force
     points, triangles, dofs = shell.contact_vertices()
     if force_per_vertex is None:
         force_per_vertex = RHO_A * G0 * L * W / len(points)
-    contact = Contact(Scene(points, triangles, bodies), dofs, shell.ndofs, dhat=DHAT, thickness=THICKNESS,
-                      stiffness=barrier_stiffness(force_per_vertex, DHAT, THICKNESS / 2),
+    contact = Contact(Scene(points, triangles, bodies, pairs=pairs), dofs, shell.ndofs, dhat=DHAT,
+                      thickness=THICKNESS, stiffness=barrier_stiffness(force_per_vertex, DHAT, THICKNESS / 2),
                       eps_v=eps_v, mu_self=mu_self)
     contact.check_start(np.zeros(shell.ndofs))
     shell.attach_contact(contact)
@@ -79,7 +86,8 @@ def in_plane_dofs(shell):
 def test_sheet_resting_on_a_plane_carries_its_weight_as_the_contact_reaction(kind):
     z0 = -(0.5 * THICKNESS + 0.7 * DHAT)
     table = flat(kind, "table", [0.1, 0.1, z0])
-    shell, contact = sheet(bodies=[table], fixed_dofs=in_plane_dofs(sheet(bodies=[table])[0]))
+    pairs = pairs_of(kind)
+    shell, contact = sheet(bodies=[table], pairs=pairs, fixed_dofs=in_plane_dofs(sheet(bodies=[table], pairs=pairs)[0]))
     state = quasi_static(shell, [1.0], [1.0], rtol=1e-10, du_rtol=1e-10)
     reaction = contact.body_forces(state.u, None, state.t)["table"]
     weight = RHO_A * G0 * 0.2 * 0.2                          # ρ_A g A, the reference
@@ -92,7 +100,7 @@ def test_sheet_resting_on_a_plane_carries_its_weight_as_the_contact_reaction(kin
 @FLAT
 def test_fast_falling_sheet_does_not_pass_through_the_plane(kind):
     z0 = -0.02
-    shell, contact = sheet(bodies=[flat(kind, "floor", [0.1, 0.1, z0])])
+    shell, contact = sheet(bodies=[flat(kind, "floor", [0.1, 0.1, z0])], pairs=pairs_of(kind))
     v0 = np.zeros(shell.ndofs)
     v0[shell.contact_vertices()[2][:, 2]] = -4.0     # vertex values of w: a uniform fall
     dt = 0.02
@@ -109,7 +117,7 @@ def test_fast_falling_sheet_does_not_pass_through_the_plane(kind):
 
 @FLAT
 def test_step_cap_of_the_newton_problem_limits_a_step_through_the_plane(kind):
-    shell, contact = sheet(bodies=[flat(kind, "floor", [0.1, 0.1, -0.01])])
+    shell, contact = sheet(bodies=[flat(kind, "floor", [0.1, 0.1, -0.01])], pairs=pairs_of(kind))
     u0 = np.zeros(shell.ndofs)
     u1 = u0.copy()
     u1[shell.contact_vertices()[2][:, 2]] = -0.02
@@ -228,7 +236,7 @@ def slide_on_incline(tan_theta, mu, t_end=0.25, dt=0.01, kind="patch"):
         return np.stack([pull * np.ones_like(x[0]), 0 * x[0], 0 * x[0]])
 
     shell, _ = sheet(0.1, 0.05, 4, 2, bodies=[floor], gravity=np.cos(theta), surface_load=(traction, 1.0),
-                     eps_v=1e-4)
+                     eps_v=1e-4, pairs=pairs_of(kind))
     times, x = [], []
 
     def record(state, info):
@@ -281,6 +289,10 @@ def case_with(contact, kinematics="large"):
      "large", "names must be unique: t given twice"),
     ({"body": [{"name": "t", "shape": "cone", "centre": [0, 0, -1]}]}, "large", r"contact.body\[0\].shape = .cone.: must be one of"),
     ({"dhat": "-1 mm"}, "large", "contact.dhat"),
+    ({"pairs": "nearest"}, "large", "contact.pairs"),
+    ({"pairs": "per_point", "body": [{"name": "post", "shape": "cylinder", "centre": [0, 0, -0.1],
+                                      "radius": 0.05, "length": 0.2, "mu": 0.3}]},
+     "large", "per_point.* friction only on a plane or half-space: body 'post'"),
 ])
 def test_bad_contact_tables_are_refused_with_one_line(contact, kinematics, message):
     from drape.case.case import CaseError
@@ -502,7 +514,7 @@ def test_a_rising_plane_lifts_the_sheet_without_passing_through(kind):
 
     z0 = -(0.5 * THICKNESS + 0.7 * DHAT)
     lift = RigidPath([0.0, 0.05], [[0, 0, 0], [0, 0, 0.005]])   # 5 mm up in 0.05 s
-    shell, contact = sheet(bodies=[flat(kind, "lift", [0.1, 0.1, z0], path=lift)])
+    shell, contact = sheet(bodies=[flat(kind, "lift", [0.1, 0.1, z0], path=lift)], pairs=pairs_of(kind))
     gaps = []
 
     def record(state, info):

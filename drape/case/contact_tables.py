@@ -167,6 +167,10 @@ BodySpec = Annotated[Union[PlaneBody, HalfSpaceBody, SphereBody, CylinderBody, B
                      Field(discriminator="shape")]
 
 
+#: Body shapes whose friction ``pairs = "per_point"`` reproduces (Coulomb on an incline).
+FLAT_SHAPES = ("plane", "half_space")
+
+
 class ContactSpec(_Section):
     """[contact]: contact of the fabric with rigid bodies and with itself (IPC, ``drape.contact``)."""
 
@@ -198,7 +202,8 @@ class ContactSpec(_Section):
     """Which contact pairs push: ``ipc``, every pair of primitives within reach in full (a point
     resting on a triangulated body is pushed once per triangle, edge and vertex near it, and
     harder as it passes a body's edge); ``per_point``, each fabric contact point once, by its
-    distance to the body, continuous across the body's edges (docs/theory.md §7)."""
+    distance to the body, continuous across the body's edges, with friction only on planes and
+    half-spaces (docs/theory.md §7)."""
     body: list[BodySpec] = []
     """``[[contact.body]]``: the rigid bodies."""
 
@@ -208,4 +213,10 @@ class ContactSpec(_Section):
         twice = sorted({n for n in names if names.count(n) > 1})
         if twice:
             raise _rule(f"contact.body names must be unique: {', '.join(twice)} given twice")
+        if self.pairs == "per_point":
+            rough = [b.name for b in self.body if b.mu > 0 and b.shape not in FLAT_SHAPES]
+            if rough:
+                raise _rule(f"contact.pairs = \"per_point\" takes friction only on a plane or half-space: body "
+                            f"{rough[0]!r} has mu > 0 (on a faceted body its Coulomb limit is not met: a strip "
+                            "round a post slips at 0.85 e^(mu theta); docs/theory.md §7)")
         return self

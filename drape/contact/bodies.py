@@ -19,7 +19,8 @@ fabric contact point is pushed once, by its distance to the body's surface, whic
 smoothly across a body's edges. Where a body's surface folds (its edges and corners), its
 edges against the fabric's edges and its vertices against the fabric's faces keep a tenth of
 a pair's weight, enough to keep the fold out of the fabric between its points (the barrier
-still grows without bound there).
+still grows without bound there). Its friction is Coulomb's on a plane, not on a faceted body
+(docs/theory.md §7).
 """
 from __future__ import annotations
 
