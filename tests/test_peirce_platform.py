@@ -93,3 +93,16 @@ def test_the_grip_converges_with_the_exact_tangent_and_not_with_the_projected_on
     summary = json.loads((tmp_path / "projected" / "summary.json").read_text())
     norms = [float(v) for v in summary["reason"].split("residual norms [")[1].split("]")[0].split(", ")]
     assert all(0.4 < b / a < 1.0 for a, b in zip(norms, norms[1:]))     # linear, not quadratic
+
+
+def test_one_pair_per_point_pushes_the_strip_past_the_edge_where_ipcs_pairs_stall(tmp_path):
+    """The case's strip with its fine zone from 4.5 mm: with IPC's own pairs the push stalls as a
+    contact point passes the platform's edge (t ≈ 0.99 s, where the edge has moved 0.8 mm); with
+    one pair per point, continuous there, it goes on (docs/theory.md §7)."""
+    case = str(CASES / "peirce_platform.toml")
+    past = ["--quiet", *ELASTIC, "--set", "mesh.fine_zone.start=4.5mm", "--set", "mesh.fine_zone.nx=50",
+            "--set", "solver.t_end=1.04", "--set", "output.every_dt=0.52"]
+    assert run([case, "--out", str(tmp_path / "per_point"), *past]) == 0
+    assert run([case, "--out", str(tmp_path / "ipc"), *past, "--set", "contact.pairs=ipc"]) == 3
+    stalled = json.loads((tmp_path / "ipc" / "summary.json").read_text())
+    assert 0.9 < stalled["t_final"] < 1.0
