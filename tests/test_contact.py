@@ -293,6 +293,8 @@ def case_with(contact, kinematics="large"):
     ({"pairs": "per_point", "body": [{"name": "post", "shape": "cylinder", "centre": [0, 0, -0.1],
                                       "radius": 0.05, "length": 0.2, "mu": 0.3}]},
      "large", "per_point.* friction only on a plane or half-space: body 'post'"),
+    ({"pairs": "per_point", "self_contact": True, "mu_self": 0.2}, "large",
+     "per_point.* friction only on a plane or half-space: the fabric itself"),
 ])
 def test_bad_contact_tables_are_refused_with_one_line(contact, kinematics, message):
     from drape.case.case import CaseError

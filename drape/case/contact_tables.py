@@ -214,9 +214,11 @@ class ContactSpec(_Section):
         if twice:
             raise _rule(f"contact.body names must be unique: {', '.join(twice)} given twice")
         if self.pairs == "per_point":
-            rough = [b.name for b in self.body if b.mu > 0 and b.shape not in FLAT_SHAPES]
+            rough = [f"body {b.name!r}" for b in self.body if b.mu > 0 and b.shape not in FLAT_SHAPES]
+            if self.self_contact and self.mu_self > 0:
+                rough.insert(0, "the fabric itself (mu_self)")
             if rough:
-                raise _rule(f"contact.pairs = \"per_point\" takes friction only on a plane or half-space: body "
-                            f"{rough[0]!r} has mu > 0 (on a faceted body its Coulomb limit is not met: a strip "
+                raise _rule(f"contact.pairs = \"per_point\" takes friction only on a plane or half-space: "
+                            f"{rough[0]} has mu > 0 (on a faceted body its Coulomb limit is not met: a strip "
                             "round a post slips at 0.85 e^(mu theta); docs/theory.md §7)")
         return self
