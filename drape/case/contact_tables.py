@@ -24,6 +24,8 @@ from typing import Annotated, Literal, Union
 from pydantic import Field, model_validator
 
 from drape.case.quantities import Q, _rule, _Section
+from drape.contact.bodies import PAIR_SETS
+from drape.contact.contact import PROJECTIONS
 
 __all__ = ["BodyPath", "ContactSpec", "BodySpec", "BODY_SHAPES", "PlaneBody", "HalfSpaceBody", "SphereBody",
            "CylinderBody", "BoxBody", "DiscBody", "MeshBody"]
@@ -193,12 +195,12 @@ class ContactSpec(_Section):
     """Collision mesh: every fabric triangle split into subdivision² sub-triangles whose
     vertices follow the shell's field inside the element (1: the mesh vertices alone, whose
     chords cut the curved elements)."""
-    hessian: Literal["projected", "exact"] = "projected"
+    hessian: Literal[tuple(PROJECTIONS)] = "projected"
     """The barrier's and the friction's Hessians in Newton's tangent: ``projected`` on the
     positive semi-definite cone pair by pair, as IPC does, or ``exact``. Where the fabric is
     held between two bodies (a grip) the projected tangent overstates the barrier's stiffness
     and Newton converges only linearly; the exact one converges there (docs/theory.md §7)."""
-    pairs: Literal["ipc", "per_point"] = "ipc"
+    pairs: Literal[PAIR_SETS] = "ipc"
     """Which contact pairs push: ``ipc``, every pair of primitives within reach in full (a point
     resting on a triangulated body is pushed once per triangle, edge and vertex near it, and
     harder as it passes a body's edge); ``per_point``, each fabric contact point once, by its
