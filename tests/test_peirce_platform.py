@@ -10,6 +10,7 @@ import pytest
 
 from constitutive.material import load_material
 from constitutive.units import G0
+from drape.analyses.bending_length import bending_length
 from drape.run.runner import main as run
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
@@ -66,18 +67,38 @@ def test_elastica_hangs_at_the_clamped_shell_cantilevers_chord_angle(tmp_path, e
     assert shell["chord_angle_deg"] == pytest.approx(reference, abs=0.05)
 
 
-def test_platform_meets_the_line_within_2_percent_of_a_perfect_clamp(tmp_path, elastica, fabric1):
+def test_platform_meets_the_line_within_1_percent_of_a_perfect_clamp(tmp_path, elastica, fabric1):
     """cases/peirce_platform.toml with an elastic strip (the grip compared alone): the overhang at
-    which its tip meets 41.5°, so its bending length, within 2 % of the elastica's over a perfect
-    clamp (measured: 1.1 % short, from the grip's give)."""
+    which its tip meets 41.5°, so its bending length, within 1 % of the elastica's over a perfect
+    clamp (measured: 0.6 % short, from the grip's give)."""
     law, weight = fabric1
     assert run([str(CASES / "peirce_platform.toml"), "--out", str(tmp_path), "--quiet", *ELASTIC]) == 0
     platform = json.loads((tmp_path / "summary.json").read_text())["analysis"]
     reference = elastica.pushed_overhang(dataclasses.replace(law, friction=None), weight, 0.0145, 0.0175, 1e-4)
     assert platform["reached"]
-    assert platform["overhang_m"] == pytest.approx(reference, rel=0.02)
+    assert platform["overhang_m"] == pytest.approx(reference, rel=0.01)
     assert platform["overhang_m"] < reference      # a grip gives: the strip turns at the edge
     assert np.isfinite(platform["bending_length_peirce_m"])
+
+
+def test_platform_with_the_law_gives_the_clamped_cantilevers_bending_length_within_2_percent(
+        tmp_path, elastica, fabric1):
+    """The tester as shipped (the law with its friction): Peirce's bending length read on the
+    platform within 2 % of the clamped cantilever's (the elastica clamped at cases/cantilever.toml's
+    1.63 cm, which the shell cantilever meets within 0.05°, test above). Measured 1.9 % short:
+    1.2 % is the test's own physics (a perfect clamp pushed reads that short, since every section
+    is bent hardest at the edge and its friction keeps it bent), the rest the grip's give.
+    Pushed over a perfect clamp the elastica meets the line within 1 % of where the shell does."""
+    law, weight = fabric1
+    assert run([str(CASES / "peirce_platform.toml"), "--out", str(tmp_path), "--quiet"]) == 0
+    platform = json.loads((tmp_path / "summary.json").read_text())["analysis"]
+    clamped_at = 0.0163
+    clamped_c = bending_length(clamped_at, np.radians(elastica.clamped_chord(law, weight, clamped_at, 1e-4)))
+    assert platform["reached"]
+    assert platform["bending_length_peirce_m"] == pytest.approx(clamped_c, rel=0.02)
+    assert platform["bending_length_peirce_m"] < clamped_c
+    pushed = elastica.pushed_overhang(law, weight, 0.0145, 0.0175, 1e-4)
+    assert platform["overhang_m"] == pytest.approx(pushed, rel=0.01)
 
 
 def test_the_grip_converges_with_the_exact_tangent_and_not_with_the_projected_one(tmp_path):
@@ -85,9 +106,10 @@ def test_the_grip_converges_with_the_exact_tangent_and_not_with_the_projected_on
     barrier Hessian; projected on the positive semi-definite cone pair by pair (IPC's), the
     tangent overstates the grip's stiffness and the residual falls only by a constant factor per
     iteration (a half with IPC's own pairs, under 5 % with one pair per point), so the step fails
-    at every bisection (docs/theory.md §7)."""
+    at every bisection (docs/theory.md §7). The strip is taken 0.5 mm wide, five times the
+    case's width: its contact forces, five times larger, keep the linear rate above round-off."""
     case = str(CASES / "peirce_platform.toml")
-    short = ["--quiet", "--set", "solver.t_end=0.04"]
+    short = ["--quiet", "--set", "solver.t_end=0.04", "--set", "mesh.width=0.05cm"]
     assert run([case, "--out", str(tmp_path / "exact"), *short]) == 0
     assert run([case, "--out", str(tmp_path / "projected"), *short, "--set", "contact.hessian=projected"]) == 3
     summary = json.loads((tmp_path / "projected" / "summary.json").read_text())
@@ -97,12 +119,13 @@ def test_the_grip_converges_with_the_exact_tangent_and_not_with_the_projected_on
 
 def test_one_pair_per_point_pushes_the_strip_past_the_edge_where_ipcs_pairs_stall(tmp_path):
     """The case's strip with its fine zone from 4.5 mm: with IPC's own pairs the push stalls as a
-    contact point passes the platform's edge (t ≈ 0.99 s, where the edge has moved 0.8 mm); with
-    one pair per point, continuous there, it goes on (docs/theory.md §7)."""
+    contact point passes the platform's edge (t ≈ 0.70 s, where the edge has moved 0.2 mm; 0.99 s
+    on a strip 0.5 mm wide); with one pair per point, continuous there, it goes on
+    (docs/theory.md §7)."""
     case = str(CASES / "peirce_platform.toml")
     past = ["--quiet", *ELASTIC, "--set", "mesh.fine_zone.start=4.5mm", "--set", "mesh.fine_zone.nx=50",
             "--set", "solver.t_end=1.04", "--set", "output.every_dt=0.52"]
     assert run([case, "--out", str(tmp_path / "per_point"), *past]) == 0
     assert run([case, "--out", str(tmp_path / "ipc"), *past, "--set", "contact.pairs=ipc"]) == 3
     stalled = json.loads((tmp_path / "ipc" / "summary.json").read_text())
-    assert 0.9 < stalled["t_final"] < 1.0
+    assert 0.6 < stalled["t_final"] < 1.0      # while the push is on (it starts at 0.6 s)

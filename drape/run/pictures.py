@@ -168,6 +168,11 @@ def render_step(directory, field: str | None = None, step: int = -1, out=None,
     plotter.add_mesh(grid.extract_feature_edges(boundary_edges=True, feature_edges=False,
                                                 manifold_edges=False),
                      color="grey", opacity=0.4, line_width=1)   # reference outline
+    if view == "xz" and where == "point":    # a strip seen edge-on is a hairline: draw its edges thick
+        plotter.add_mesh(shown.extract_feature_edges(boundary_edges=True, feature_edges=False,
+                                                     manifold_edges=False),
+                         scalars="shown", cmap="viridis", line_width=4, show_scalar_bar=False,
+                         clim=(float(np.min(values)), float(np.max(values))))
     extent = float(max(np.ptp(np.asarray(grid.points)[:, :2], axis=0).max(), 1e-3))
     for surface in (bodies(t, extent) if bodies is not None else ()):
         plotter.add_mesh(surface.to_polydata(), color="lightgrey", smooth_shading=True,
