@@ -298,12 +298,18 @@ def main(argv=None) -> int:
     p.add_argument("--iterations", type=int, default=4, help="secant: sweeps at most")
     p.add_argument("--tol", type=float, default=1.5, help="secant: DC points")
     p.add_argument("--workers", type=int, default=None)
+    p.add_argument("--fabrics", nargs="+", metavar="N", help="only these fabrics (default: every one)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
                    help="override a case key in every run (e.g. load.gravity.ramp_time=0.5)")
     args = p.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     fabrics = read_fabrics(args.scans, out)
+    if args.fabrics:
+        unknown = sorted(set(args.fabrics) - {f["fabric"] for f in fabrics})
+        if unknown:
+            p.error(f"--fabrics: no scans of fabric {', '.join(unknown)}")
+        fabrics = [f for f in fabrics if f["fabric"] in args.fabrics]
     if args.match == "secant":
         start = read_start(args.start) if args.start else {}
         table = compare_secant(fabrics, args.case, start, args.seeds, out, args.workers,
