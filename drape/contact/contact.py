@@ -139,9 +139,9 @@ class Contact:
         """The pairs closer than ``dmin + dhat`` at ``x`` (bodies at ``t``); ``which``: only
         those of the half-space with that index in the scene's bodies."""
         collisions = ipctk.NormalCollisions()
-        if self.scene.per_point:
-            collisions.collision_set_type = ipctk.NormalCollisions.CollisionSetType.IMPROVED_MAX_APPROX
+        if self.scene.per_point:   # weighting first: ipctk warns of the approximator without it
             collisions.use_area_weighting = True
+            collisions.collision_set_type = ipctk.NormalCollisions.CollisionSetType.IMPROVED_MAX_APPROX
         if not self.scene.half_spaces:
             collisions.build(self.scene.mesh, x, self.dhat, self.dmin)
             return collisions
