@@ -10,6 +10,8 @@ one folder each with ``identify.json`` and ``evaluations.jsonl``, e.g. the fabri
 folder. Library points are left out, so the stop could only come earlier than shown. Until the
 stop the search is the same either way (the surrogate sees the same evaluations), so the table
 gives the evaluations and forward-run wall time the stop saves, not its effect on the answer.
+The stop as ``drape identify`` applies it also needs the surrogate's answer run, which the
+stored points do not say; where it was not, the search goes on from the point shown.
 """
 from __future__ import annotations
 

@@ -289,8 +289,32 @@ def test_the_search_ends_when_the_surrogate_asks_again_for_a_point_it_has(tmp_pa
         found[within] = (runs.runs, search.converged, answer["point"]["bending_length"])
     runs, why, c = found[0.01]
     assert why.startswith("converged: the surrogate's next point lies within") and runs < 20
+    assert "and its answer by one run" in why
     assert found[0.0][:2] == (20, "")
     assert c == pytest.approx(1.5, rel=0.05) and found[0.0][2] == pytest.approx(1.5, rel=0.05)
+
+
+def test_a_search_that_comes_back_to_a_known_point_runs_its_answer_before_it_ends(tmp_path, monkeypatch):
+    """The stop needs the surrogate's answer run as well: with a surrogate whose every
+    suggestion is a corner already run, the search runs its answers (points nobody asked the
+    acquisition for) until one is run where the answer lies, and only then ends, with the
+    answer within a hundredth of the box of a point run. The old rule ended at once, on an
+    answer never run."""
+    from drape.identification.search import Search, run_search
+    from drape.identification.surrogate import Surrogate, unit_distance
+
+    scans = Drapes(tuple(StandInRuns.drape(f"scan{i}", 1.5, n) for i, n in enumerate((-2.0, 0.5, 1.5))))
+    box = {"bending_length": (0.6, 3.0), "hysteresis": (0.25, 1.5)}
+    monkeypatch.setattr(Surrogate, "suggest", lambda self: {"bending_length": 0.6, "hysteresis": 0.25})
+    search = Search(scans, box, 24, tmp_path, "stand-in", converged_within=0.01)
+    runs = StandInRuns()
+    found = run_search(search, runs)
+    design = search.design_size()
+    assert design < runs.runs < 24          # answers run beyond the design, within the budget
+    assert search.converged.startswith("converged")
+    answer = {**found["answer"]["point"]}
+    assert min(unit_distance(box, answer, e.point) for e in found["evaluations"]) <= 0.01
+    assert answer["bending_length"] == pytest.approx(1.5, rel=0.05)
 
 
 def test_stop_replay_counts_the_points_run_before_one_comes_back(benchmark_script, tmp_path, capsys):

@@ -66,7 +66,8 @@ def _parser() -> argparse.ArgumentParser:
                         "identification may be given more)")
     p.add_argument("--converged-within", type=float, default=CONVERGED_WITHIN, metavar="W",
                    help="end the search once the surrogate asks for a point within W box widths "
-                        f"(log scale) of one already run (default {CONVERGED_WITHIN:g}; 0: spend "
+                        "(log scale) of one already run and its answer lies as close to one (an "
+                        f"answer not yet run is run first; default {CONVERGED_WITHIN:g}; 0: spend "
                         "every evaluation)")
     p.add_argument("--design", type=int, default=None, metavar="N",
                    help="Latin-hypercube points after the two corners (default 2 per parameter)")

@@ -11,10 +11,15 @@
    an answer at the nearest corner.
 4. The surrogate suggests the remaining points, ``in_flight`` at a time, until the budget of
    evaluations is spent, or until it asks for a point within ``converged_within`` (in widths
-   of the box, log scale) of one already run or running: the search has converged. Near its
-   best the misfit is flat within the drapes' own seed scatter, and a surrogate that has seen
-   that proposes the same point again and again (creeping by a fraction of a percent), each
-   time for a full forward ensemble that adds next to nothing.
+   of the box, log scale) of one already run or running while its answer (the point it would
+   report, :meth:`~drape.identification.surrogate.Surrogate.identified`) lies that close to a
+   point run: the search has converged. Near its best the misfit is flat within the drapes'
+   own seed scatter, and a surrogate that has seen that proposes the same point again and
+   again (creeping by a fraction of a percent), each time for a full forward ensemble that
+   adds next to nothing. But the acquisition may come back to a point it knows while the
+   answer lies where nothing was run (between library points made for other fabrics), and
+   there the surrogate can be wrong by more than the scans' scatter: such an answer is run
+   next, as an ordinary evaluation, before the search may end.
 
 Every finished evaluation is appended to the folder's store (and the library's) at once; the
 points in flight are in ``pending.json``, submitted again first on ``--resume`` (their runs
@@ -107,19 +112,37 @@ def _corners_known(search: Search, known: list[Evaluation]) -> bool:
     return all(any(_same(e.point, c, search.free) for e in known) for c in design(search.box, 0))
 
 
-def _converged(search: Search, point: dict, known: list[Evaluation], pending: dict) -> str:
-    """Why ``point`` ends the search (empty if it does not): it lies within
-    ``converged_within`` of a point run or running."""
+def _nearby(search: Search, point: dict, known: list[Evaluation], pending: dict) -> tuple | None:
+    """``(distance, name)`` of the point run (``known``) or running (``pending``) nearest to
+    ``point``, if it lies within ``converged_within``; else None."""
     if search.converged_within <= 0:
-        return ""
+        return None
     others = [(e.name, e.point) for e in known] + [(name, v[0]) for name, v in pending.items()]
     if not others:
-        return ""
+        return None
     d, name = min((unit_distance(search.box, point, q), n) for n, q in others)
-    if d > search.converged_within:
-        return ""
-    return (f"converged: the surrogate's next point lies within {d:.4f} box widths of {name} "
-            f"(converged_within {search.converged_within:g})")
+    return (d, name) if d <= search.converged_within else None
+
+
+def _next_point(search: Search, surrogate: Surrogate, known: list[Evaluation], pending: dict):
+    """The point to run next: the surrogate's suggestion, or its answer where the suggestion
+    comes back to a point it has and the answer has not been run. None when there is nothing
+    to run: the search has converged (``search.converged`` says why), or its answer is running."""
+    free = search.free
+    point = full_point(surrogate.suggest(), free)
+    near = _nearby(search, point, known, pending)
+    if near is None:
+        return point
+    answer = full_point(surrogate.identified()["point"], free)
+    if _nearby(search, answer, known, {}) is not None:
+        d, name = near
+        search.converged = (f"converged: the surrogate's next point lies within {d:.4f} box "
+                            f"widths of {name}, and its answer by one run "
+                            f"(converged_within {search.converged_within:g})")
+        return None
+    if _nearby(search, answer, [], pending) is not None:
+        return None
+    return answer
 
 
 def _registered(surrogate: Surrogate, search: Search, evaluations) -> list[dict]:
@@ -202,10 +225,9 @@ def run_search(search: Search, forward, in_flight: int = 1, progress=None) -> di
                     name, point = queue.pop(0)
                 else:
                     t0 = time.perf_counter()
-                    point = full_point(surrogate.suggest(), free)
+                    point = _next_point(search, surrogate, known, forward.pending)
                     search.seconds["surrogate"] += time.perf_counter() - t0
-                    search.converged = _converged(search, point, known, forward.pending)
-                    if search.converged:
+                    if point is None:
                         break
                     name = None
                 if name is None:
