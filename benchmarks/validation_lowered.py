@@ -4,8 +4,9 @@ The shipped validation cases (``cases/validation``) lay the specimen on the disc
 ramp, as ``cases/cusick_kes.toml`` does. This study runs the same fabrics on the tester's
 support, lowered away, with the specimen's rigidity varying over it: each case gets the
 lowered case's ``[contact]`` (the support placed half the fabric's thickness plus half the
-barrier layer below it), its ``[model.rigidity_variation]``, and the full weight at once.
-Everything else (tester, mesh, fabric, damping, solver) stays the validation case's own.
+barrier layer below it), its ``[model.rigidity_variation]``, the full weight at once, and,
+where the fabric's sheet gives no shear rigidity G, the lowered set-up's. Everything else
+(tester, mesh, fabric, damping, solver) stays the validation case's own.
 
     python benchmarks/validation_lowered.py --out out/validation_lowered --seeds 3
 """
@@ -30,6 +31,8 @@ def lowered_case(case: dict, lowered: dict) -> dict:
     out = copy.deepcopy(case)
     out["model"]["rigidity_variation"] = copy.deepcopy(lowered["model"]["rigidity_variation"])
     out["load"]["gravity"]["ramp_time"] = lowered["load"]["gravity"]["ramp_time"]
+    if "G" in lowered["material"]["kes"]:
+        out["material"]["kes"].setdefault("G", lowered["material"]["kes"]["G"])
     contact = copy.deepcopy(lowered["contact"])
     dhat_mm = parse_quantity(contact["dhat"]).to("mm").magnitude
     thickness = case["material"]["kes"]["thickness"]     # KES sheets print mm

@@ -92,8 +92,9 @@ def test_a_folder_without_validation_cases_is_refused(tmp_path, capsys):
 def test_validation_fabrics_let_down_keep_their_own_set_up(tmp_path, benchmark_script):
     """benchmarks/validation_lowered.py: each validation case gets the lowered case's support,
     lowering and rigidity field, with the support half the fabric's thickness plus half the
-    barrier layer below it (as cusick_lowered.toml places it for its 0.30 mm fabric), and keeps
-    its own tester, fabric, mesh and measured values."""
+    barrier layer below it (as cusick_lowered.toml places it for its 0.30 mm fabric), and the
+    lowered set-up's shear rigidity G where its sheet gives none; it keeps its own tester,
+    fabric, mesh and measured values, and a G of its own."""
     import tomllib
 
     import tomli_w
@@ -115,5 +116,11 @@ def test_validation_fabrics_let_down_keep_their_own_set_up(tmp_path, benchmark_s
         assert body.path == support.path and body.mu == support.mu
         assert case.model.rigidity_variation == lowered.model.rigidity_variation
         assert case.load.gravity.ramp_time == 0.0
-        assert (case.mesh, case.material, case.measured) == (original.mesh, original.material,
-                                                             original.measured)
+        assert (case.mesh, case.measured) == (original.mesh, original.measured)
+        assert original.material.kes.G is None
+        assert case.material.kes.G == lowered.material.kes.G is not None
+        assert case.material.model_copy(update={"kes": original.material.kes}) == original.material
+        assert case.material.kes.model_copy(update={"G": None}) == original.material.kes
+    own = tomllib.loads(path.read_text())
+    own["material"]["kes"]["G"] = 1.2
+    assert script.lowered_case(own, lowered_toml)["material"]["kes"]["G"] == 1.2
