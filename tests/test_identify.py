@@ -317,6 +317,30 @@ def test_a_search_that_comes_back_to_a_known_point_runs_its_answer_before_it_end
     assert answer["bending_length"] == pytest.approx(1.5, rel=0.05)
 
 
+def test_an_answer_the_search_ran_is_not_run_again(tmp_path):
+    """The identified point's drapes: where the search itself ran the answer (as its stop asks),
+    the same point under the same seeds, its runs are taken as the final's, stored under the
+    final's name at no forward-run time; a point not run is submitted."""
+    from drape.identification.outputs import FINAL, _final_evaluation
+    from drape.identification.search import Search
+
+    scans = Drapes(tuple(StandInRuns.drape(f"scan{i}", 1.5, n) for i, n in enumerate((-2.0, 0.5, 1.5))))
+    box = {"bending_length": (0.6, 3.0), "hysteresis": (0.25, 1.5)}
+    search = Search(scans, box, 4, tmp_path, "stand-in")
+    runs = StandInRuns()
+    ran = full_point({"bending_length": 1.5, "hysteresis": 0.5}, search.free)
+    runs.submit("e000", ran)
+    append_evaluation(tmp_path, runs.next_finished())
+    final = _final_evaluation(search, {"answer": {"point": {"bending_length": 1.5, "hysteresis": 0.5}}}, runs)
+    assert runs.runs == 1 and final.name == FINAL and final.point == ran
+    stored = read_evaluations(tmp_path)
+    assert [e.name for e in stored] == ["e000", FINAL]
+    assert stored[1].drapes.dc.tolist() == stored[0].drapes.dc.tolist()
+    assert sum(r["wall_time_s"] for r in stored[1].runs) == 0.0
+    other = _final_evaluation(search, {"answer": {"point": {"bending_length": 1.6, "hysteresis": 0.5}}}, runs)
+    assert runs.runs == 2 and other.name == f"{FINAL}-1"
+
+
 def test_stop_replay_counts_the_points_run_before_one_comes_back(benchmark_script, tmp_path, capsys):
     """benchmarks/search_stop_replay.py: the stop fires at the first point within W box widths
     (log scale) of an earlier one; 1.5 and 1.501 cm are 0.0004 widths of 0.6-3 cm apart."""

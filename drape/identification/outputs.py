@@ -4,6 +4,8 @@
 The identified point is the surrogate's (:meth:`drape.identification.surrogate.Surrogate.identified`;
 not the best evaluation, whose misfit carries its seeds' luck); it is run under the same seeds as every point, and its drapes are the
 simulated ones the report sets beside the scans and the prediction a validation compares.
+Where the search ran that very point (its stop asks for the answer run), those runs are the
+final's, stored again under its name, not run twice.
 """
 from __future__ import annotations
 
@@ -13,7 +15,7 @@ from pathlib import Path
 
 from drape.identification.objective import misfit
 from drape.identification.parameters import PARAMETERS, full_point, kes_values
-from drape.identification.store import append_evaluation, read_evaluations
+from drape.identification.store import Evaluation, append_evaluation, read_evaluations
 from drape.identification.surrogate import WITHIN
 
 __all__ = ["FINAL", "INTERVAL_RULE", "MATCHED_Z", "finish"]
@@ -32,13 +34,22 @@ INTERVAL_RULE = (f"Intervals: the range of each parameter over the part of the b
 def _final_evaluation(search, found: dict, forward):
     """The identified point's evaluation: stored already (a resumed identification) or run."""
     point = full_point(found["answer"]["point"], search.free)
-    finals = [e for e in read_evaluations(search.out) if e.name.startswith(FINAL)]
+    stored = read_evaluations(search.out)
+    finals = [e for e in stored if e.name.startswith(FINAL)]
     for e in finals:
         if e.setup == search.setup and e.point == point:
             return e
-    t0 = time.perf_counter()
     # a resumed identification given more evaluations may end at another point: its own folder
-    forward.submit(FINAL if not finals else f"{FINAL}-{len(finals)}", point)
+    name = FINAL if not finals else f"{FINAL}-{len(finals)}"
+    for e in stored:
+        # the search ran the answer itself (the stop asks for that): the same point under the
+        # same seeds gives the same drapes, so its runs are the final's
+        if e.setup == search.setup and e.point == point and len(e.drapes):
+            final = Evaluation(e.point, e.setup, [{**r, "wall_time_s": 0.0} for r in e.runs], name)
+            append_evaluation(search.out, final)
+            return final
+    t0 = time.perf_counter()
+    forward.submit(name, point)
     evaluation = forward.next_finished()
     search.seconds["forward_wait"] += time.perf_counter() - t0
     append_evaluation(search.out, evaluation)
