@@ -214,6 +214,8 @@ def test_the_models_own_drapes_are_identified_back_after_a_kill(
     # the corners and the design point, then the surrogate's until the budget or convergence
     assert 3 <= run <= 6
     assert result["evaluations"]["ended"].startswith("converged") == (run < 6)
+    # a final copied from the search's run of the same point costs no forward run
+    assert result["evaluations"]["this_folder"] == sum(e.wall_time_s > 0 for e in after)
     c = result["parameters"]["bending_length"]
     assert c == pytest.approx(TRUE_C, rel=0.15)
     iv = result["intervals"]["bending_length"]
@@ -315,6 +317,24 @@ def test_a_search_that_comes_back_to_a_known_point_runs_its_answer_before_it_end
     answer = {**found["answer"]["point"]}
     assert min(unit_distance(box, answer, e.point) for e in found["evaluations"]) <= 0.01
     assert answer["bending_length"] == pytest.approx(1.5, rel=0.05)
+
+
+def test_a_withdrawn_suggestion_leaves_no_stand_in_score_behind():
+    """The constant liar keeps a stand-in score at each suggestion until it is run: a second
+    suggestion goes elsewhere (most of the box away here). A suggestion the search declines
+    (it came back to a point run) is withdrawn, and the next suggestion is the same point
+    again, within a hundredth of the box (the acquisition's own optimiser scatter)."""
+    from drape.identification.surrogate import Surrogate, unit_distance
+
+    box = {"bending_length": (0.6, 3.0), "hysteresis": (0.25, 1.5)}
+    s = Surrogate(box)
+    s.register({"bending_length": 1.0, "hysteresis": 0.5}, 3.0)
+    s.register({"bending_length": 2.0, "hysteresis": 1.0}, 1.0)
+    first, second = s.suggest(), s.suggest()
+    assert unit_distance(box, first, second) > 0.3
+    s.withdraw()
+    s.withdraw()
+    assert unit_distance(box, first, s.suggest()) < 0.01
 
 
 def test_an_answer_the_search_ran_is_not_run_again(tmp_path):

@@ -82,7 +82,9 @@ def finish(search, found: dict, forward, scans, weight: float, thickness, defini
         "weight_mg_per_cm2": weight, "material_kes": kes_values(point, weight),
         "material_file": str(material), "target": search.target.summary(),
         "simulated": final.drapes.summary(), "misfit": dict(m), "surrogate": answer,
-        "evaluations": {"this_folder": found["own"] + 1, "from_library": found["library"],
+        # a final copied from the search's own run of the answer was not run again
+        "evaluations": {"this_folder": found["own"] + int(final.wall_time_s > 0),
+                        "from_library": found["library"],
                         "seeds": definition["seeds"],
                         "ended": search.converged or "the budget of evaluations was spent"},
         "seconds": {**{k: round(v, 2) for k, v in search.seconds.items()},

@@ -133,6 +133,7 @@ def _next_point(search: Search, surrogate: Surrogate, known: list[Evaluation], p
     near = _nearby(search, point, known, pending)
     if near is None:
         return point
+    surrogate.withdraw()
     answer = full_point(surrogate.identified()["point"], free)
     if _nearby(search, answer, known, {}) is not None:
         d, name = near

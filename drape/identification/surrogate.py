@@ -118,6 +118,13 @@ class Surrogate:
         """The next point to evaluate (values, not logs)."""
         return self._point(self.bo.suggest())
 
+    def withdraw(self) -> None:
+        """Forget the last suggestion, which will not be run: the constant liar would otherwise
+        keep its stand-in score there in every later suggestion."""
+        dummies = self.bo.acquisition_function.dummies
+        if dummies:
+            dummies.pop()
+
     def predict(self, points: list[dict]) -> tuple[np.ndarray, np.ndarray]:
         """Surrogate misfit at ``points``: its posterior mean J and the J one standard
         deviation better (the optimistic side)."""
