@@ -36,15 +36,16 @@ def _final_evaluation(search, found: dict, forward):
     point = full_point(found["answer"]["point"], search.free)
     stored = read_evaluations(search.out)
     finals = [e for e in stored if e.name.startswith(FINAL)]
-    for e in finals:
-        if e.setup == search.setup and e.point == point:
+    here = [e for e in stored if e.setup == search.setup and e.point == point]
+    for e in here:
+        if e.name.startswith(FINAL):
             return e
     # a resumed identification given more evaluations may end at another point: its own folder
     name = FINAL if not finals else f"{FINAL}-{len(finals)}"
-    for e in stored:
+    for e in here:
         # the search ran the answer itself (the stop asks for that): the same point under the
         # same seeds gives the same drapes, so its runs are the final's
-        if e.setup == search.setup and e.point == point and len(e.drapes):
+        if len(e.drapes):
             final = Evaluation(e.point, e.setup, [{**r, "wall_time_s": 0.0} for r in e.runs], name)
             append_evaluation(search.out, final)
             return final
