@@ -5,7 +5,7 @@ changes sign (stick ↔ slip; ``constitutive.friction``). Newton converges quadr
 once no point switches any more. This script runs a case through the runner and counts, for
 every step, the points of each direction (warp, weft) whose increment κ − κ_committed has
 another sign than at the previous evaluation point (Newton iterates and line-search trials;
-repeated evaluations at one point are counted once)::
+repeated evaluations at one point are counted once; :mod:`constitutive.friction_switching`)::
 
     python benchmarks/friction_switching.py cases/cusick_fabric1.toml --set solver.t_end=12.48
 
@@ -19,43 +19,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-import numpy as np
-
 ROOT = Path(__file__).resolve().parents[1]
-
-
-class SwitchCounter:
-    """Wraps ``FrictionState.trial`` and ``commit`` to count sign changes of Δκ per step."""
-
-    def __init__(self, friction_state_class):
-        self.cls = friction_state_class
-        self.signs = {}        # state -> sign pattern at each distinct evaluation point
-        self.step = {}         # state -> switches at each new point, for the step just committed
-
-    def install(self):
-        trial, commit = self.cls.trial, self.cls.commit
-        counter = self
-
-        def counted_trial(state, kappa):
-            sig = np.sign(np.asarray(kappa, dtype=float) - state.kappa)
-            seen = counter.signs.setdefault(state, [])
-            if not seen or not np.array_equal(seen[-1], sig):
-                seen.append(sig)
-            return trial(state, kappa)
-
-        def counted_commit(state, *args, **kwargs):
-            seen = counter.signs.pop(state, [])
-            counter.step[state] = [int(np.count_nonzero(b != a)) for a, b in zip(seen, seen[1:])]
-            return commit(state, *args, **kwargs)
-
-        self.cls.trial, self.cls.commit = counted_trial, counted_commit
-
-    def take(self) -> list[int]:
-        """Switches at each new evaluation point of the last step, summed over the directions."""
-        rows = list(self.step.values())
-        self.step = {}
-        n = max((len(r) for r in rows), default=0)
-        return [sum(r[i] for r in rows if i < len(r)) for i in range(n)]
 
 
 def main(argv=None) -> int:
@@ -67,9 +31,9 @@ def main(argv=None) -> int:
     sys.path.insert(0, str(ROOT))
     import drape.run.runner as run
     from constitutive.friction import FrictionState
+    from constitutive.friction_switching import SwitchCounter
 
-    counter = SwitchCounter(FrictionState)
-    counter.install()
+    counter = SwitchCounter(FrictionState).install()
     rows = []
     record = run.Recorder.__call__
 

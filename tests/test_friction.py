@@ -4,6 +4,7 @@ import pytest
 
 from constitutive.friction import (FrictionParams, FrictionState, ParameterError, closed_form_from_rest,
                                    dahl_path, friction_path)
+from constitutive.friction_switching import SwitchCounter
 
 P = FrictionParams(f1=2.0e-3, f2=1.5e-3, eps_f=40.0, eta=0.3)
 
@@ -191,15 +192,13 @@ def test_vectorised_over_points_and_parameter_sets():
         np.testing.assert_allclose(M[i], friction_path(pi, kappa), rtol=1e-14)
 
 
-def test_switch_counter_counts_sign_changes_between_distinct_trial_points(benchmark_script):
-    """benchmarks/friction_switching.py: a repeated trial point is counted once, and each new
-    point counts the points whose Δκ changed sign since the previous one."""
-    module = benchmark_script("friction_switching")
-
+def test_switch_counter_counts_sign_changes_between_distinct_trial_points():
+    """A repeated trial point is counted once, and each new point counts the points whose Δκ
+    changed sign since the previous one."""
     class Counted(FrictionState):   # the counter patches this class, not FrictionState
         pass
 
-    counter = module.SwitchCounter(Counted)
+    counter = SwitchCounter(Counted)
     counter.install()
     state = Counted(FrictionParams(1.0, 0.0, 0.5, 0.5), shape=(3,))
     for kappa in ([0.0, 0.0, 0.0], [1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, -1.0]):
