@@ -18,13 +18,13 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import statistics
 from collections import Counter
 from pathlib import Path
 
 from drape.batch.rows import MEASURED, SweepError, SweepRow, read_results
 from drape.case.case import CaseError, load_case
+from drape.run.atomic import atomic_write_text
 
 __all__ = ["SEED_KEY", "seed_rows", "seeded", "ensemble_stats", "ensembles", "write_ensembles",
            "describe_ensemble"]
@@ -154,10 +154,7 @@ def write_ensembles(out_dir) -> Path | None:
     if not found:
         return None
     path = out_dir / "ensemble.json"
-    tmp = out_dir / ".ensemble.json.tmp"
-    tmp.write_text(json.dumps({"seed_key": SEED_KEY, "ensembles": found}, indent=1))
-    os.replace(tmp, path)
-    return path
+    return atomic_write_text(path, json.dumps({"seed_key": SEED_KEY, "ensembles": found}, indent=1))
 
 
 def _pm(stats: dict, digits: int) -> str:

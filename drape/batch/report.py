@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from drape.batch.rows import RESULT_COLUMNS, read_results
+from drape.run.atomic import atomic_write_text
 from drape.run.cli import EXIT_BAD_INPUT, Parser
 from drape.run.output import read_pvd
 
@@ -322,10 +323,7 @@ def write_report(out_dir) -> Path:
         raise FileNotFoundError(f"{out_dir}: neither a sweep (results.csv) nor a run "
                                 f"(summary.json) folder")
     path = out_dir / "report.html"
-    tmp = out_dir / ".report.html.tmp"
-    tmp.write_text(text, encoding="utf-8")
-    tmp.replace(path)
-    return path
+    return atomic_write_text(path, text)
 
 
 def main(argv: list[str] | None = None) -> int:

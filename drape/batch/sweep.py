@@ -54,6 +54,7 @@ from drape.batch.rows import MEASURED, RESULT_COLUMNS, SweepError, SweepRow, rea
 from drape.case.build import build
 from drape.case.case import CaseError, dump_case, load_case
 from drape.fem.compiled import limit_threads
+from drape.run.atomic import atomic_write, atomic_write_text
 from drape.run.checkpoint import CHECKPOINT, CheckpointError, read_checkpoint
 from drape.run.cli import describe, one_line
 from drape.run.lock import folder_lock
@@ -198,12 +199,14 @@ class _Results:
         keys = list(dict.fromkeys(k for r in rows for k in r.keys))
         measured = list(dict.fromkeys(k for r in rows for k in r.measured))
         self.columns = ["name", *keys, *measured, *RESULT_COLUMNS]
-        tmp = path.with_name(f".{path.name}.tmp")
-        with open(tmp, "w", newline="") as fh:   # rewritten whole: only finished rows survive
-            writer = csv.DictWriter(fh, self.columns, extrasaction="ignore")
-            writer.writeheader()
-            writer.writerows(keep)
-        os.replace(tmp, path)
+
+        def write(tmp: Path) -> None:     # rewritten whole: only finished rows survive
+            with open(tmp, "w", newline="") as fh:
+                writer = csv.DictWriter(fh, self.columns, extrasaction="ignore")
+                writer.writeheader()
+                writer.writerows(keep)
+
+        atomic_write(path, write)
         self.fh = open(path, "a", newline="")
         self.writer = csv.DictWriter(self.fh, self.columns, extrasaction="ignore")
 
@@ -379,9 +382,7 @@ def _write_definition(out: Path, case_path: str, rows: list[SweepRow], overrides
     data = {"case": case_path, "set": overrides,
             "rows": [{"name": r.name, "keys": r.keys, "measured": r.measured, "group": r.group}
                      for r in rows]}
-    tmp = out / ".sweep.json.tmp"
-    tmp.write_text(json.dumps(data, indent=1))
-    os.replace(tmp, out / "sweep.json")
+    atomic_write_text(out / "sweep.json", json.dumps(data, indent=1))
 
 
 def _read_definition(out: Path):

@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -38,6 +37,7 @@ from drape.identification.objective import misfit
 from drape.identification.parameters import full_point
 from drape.identification.store import Evaluation, append_evaluation, library_evaluations, read_evaluations
 from drape.identification.surrogate import Surrogate, design, unit_distance
+from drape.run.atomic import atomic_write_text
 
 __all__ = ["OutOfReach", "Search", "run_search", "CONVERGED_WITHIN"]
 
@@ -161,9 +161,7 @@ def _registered(surrogate: Surrogate, search: Search, evaluations) -> list[dict]
 
 
 def _write_pending(out: Path, pending: dict) -> None:
-    tmp = out / f".{PENDING}.tmp"
-    tmp.write_text(json.dumps({k: v[0] for k, v in pending.items()}))
-    os.replace(tmp, out / PENDING)
+    atomic_write_text(out / PENDING, json.dumps({k: v[0] for k, v in pending.items()}))
 
 
 def run_search(search: Search, forward, in_flight: int = 1, progress=None) -> dict:

@@ -16,6 +16,8 @@ probes
     Displacement columns of ``history.csv``.
 output
     VTU/PVD, ``history.csv``, ``summary.json``.
+atomic
+    Files written whole or not at all, with the mode a plain ``open()`` gives.
 run_profile
     :class:`RunProfile`: counts and wall-time split of a run.
 pictures

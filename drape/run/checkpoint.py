@@ -1,8 +1,8 @@
 """A run's checkpoint: its last converged step, enough to continue it as if never stopped.
 
 ``checkpoint.npz`` in the run folder is rewritten after every converged step, atomically (a
-temporary file in the same folder, then ``os.replace``), so a run killed at any moment leaves
-the checkpoint of a converged step. It holds
+temporary file in the same folder, then ``os.replace``: :func:`drape.run.atomic.atomic_write`),
+so a run killed at any moment leaves the checkpoint of a converged step. It holds
 
 - the integrator's state: time, ``u``, ``v``, ``a`` (and the HHT force of the step, when kept),
   the size of the last step and the step-size control (``state.*``, ``run["integrator"]``);
@@ -18,13 +18,13 @@ Loads and the seeded fold perturbation are functions of time rebuilt from the ca
 from __future__ import annotations
 
 import json
-import os
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from drape.run.atomic import atomic_write
 from drape.solvers.newmark import NewmarkState
 
 __all__ = ["CHECKPOINT", "Checkpoint", "CheckpointError", "write_checkpoint", "read_checkpoint"]
@@ -60,16 +60,12 @@ def write_checkpoint(directory, state, model_state: dict, run: dict) -> Path:
         arrays["state.force"] = state.force
     arrays.update({f"model.{k}": np.asarray(v) for k, v in model_state.items()})
     path = directory / CHECKPOINT
-    fd, tmp = tempfile.mkstemp(dir=directory, prefix=f".{CHECKPOINT}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
+
+    def write(tmp: Path) -> None:
+        with open(tmp, "wb") as fh:   # a file object: np.savez would add ".npz" to a name
             np.savez(fh, **arrays)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+
+    return atomic_write(path, write)
 
 
 def read_checkpoint(directory) -> Checkpoint:

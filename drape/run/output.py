@@ -1,8 +1,8 @@
 """Writing a run to disk as it happens: VTU series with a PVD index, history.csv, summary.json.
 
 Every write is flushed (CSV) or atomic (VTU, PVD, JSON: written to a temporary file in the
-same directory, then ``os.replace``-d), so a run that dies at any point leaves a readable
-PVD that references only complete VTU files.
+same directory, then ``os.replace``-d: :func:`drape.run.atomic.atomic_write`), so a run that
+dies at any point leaves a readable PVD that references only complete VTU files.
 
 Examples
 --------
@@ -23,8 +23,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-import os
-import tempfile
 import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any, Mapping
@@ -33,20 +31,9 @@ import meshio
 import numpy as np
 
 from drape.models.fields import split_fields
+from drape.run.atomic import atomic_write
 
 __all__ = ["OutputSchedule", "OutputWriter", "read_pvd", "read_history"]
-
-def _atomic_write(path: Path, write) -> None:
-    """Call ``write(tmp_path)`` and move the result onto ``path`` atomically."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
-        write(Path(tmp))
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 class OutputSchedule:
@@ -157,7 +144,7 @@ class OutputWriter:
             with open(path, "w", newline="") as fh:
                 csv.writer(fh).writerows(lines[:n_rows + 1])
 
-        _atomic_write(self.history_path, write_rows)
+        atomic_write(self.history_path, write_rows)
         self._history_file = open(self.history_path, "a", newline="")
         self._history_writer = csv.DictWriter(self._history_file, fieldnames=lines[0],
                                               extrasaction="ignore", restval="")
@@ -194,7 +181,7 @@ class OutputWriter:
             cell_data={k: [np.ascontiguousarray(v, dtype=float)] for k, v in cell_data.items()},
         )
         filename = f"{self.name}_{len(self.datasets):04d}.vtu"
-        _atomic_write(self.directory / filename, lambda p: meshio.write(p, mesh, file_format="vtu"))
+        atomic_write(self.directory / filename, lambda p: meshio.write(p, mesh, file_format="vtu"))
         self.datasets.append((float(t), filename))
         self._write_pvd()
         return self.directory / filename
@@ -210,7 +197,7 @@ class OutputWriter:
             )
         ET.indent(root)
         tree = ET.ElementTree(root)
-        _atomic_write(
+        atomic_write(
             self.pvd_path, lambda p: tree.write(p, encoding="utf-8", xml_declaration=True)
         )
 
@@ -229,7 +216,7 @@ class OutputWriter:
         """Write ``summary.json`` atomically (numpy scalars and arrays converted)."""
         path = self.directory / "summary.json"
         text = json.dumps(summary, indent=2, default=_json_default, allow_nan=True)
-        _atomic_write(path, lambda p: p.write_text(text + "\n"))
+        atomic_write(path, lambda p: p.write_text(text + "\n"))
         return path
 
     def close(self) -> None:

@@ -23,7 +23,6 @@ from __future__ import annotations
 import argparse
 import json
 import logging
-import os
 import sys
 import time
 from pathlib import Path
@@ -45,6 +44,7 @@ from drape.case.build import (
 from drape.case.case import Case, CaseError, describe_schema, dump_case, load_case
 from drape.case.timeline import hit_times, pseudo_times, time_phases
 from drape.fem import compiled  # compiled.cache_is_cold read at call time (tests replace it)
+from drape.run.atomic import atomic_write_text
 from drape.run.checkpoint import CHECKPOINT, Checkpoint, read_checkpoint
 from drape.run.cli import EXIT_CODES, EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_OK, Parser, fail, guarded
 from drape.run.lock import folder_lock
@@ -137,9 +137,7 @@ def _stopped_while_building(case: Case, out_dir: Path, exc: KeyboardInterrupt, w
                "t_final": 0.0, "settling_time": None, "steps": 0, "vtu_files": 0,
                "pvd": f"{case.case.name}.pvd", "wall_time_s": time.perf_counter() - wall0}
     log.warning("%s; start it again with python -m drape.run --resume %s", summary["reason"], out_dir)
-    tmp = out_dir / ".summary.json.tmp"
-    tmp.write_text(json.dumps(summary, indent=2) + "\n")
-    os.replace(tmp, out_dir / "summary.json")
+    atomic_write_text(out_dir / "summary.json", json.dumps(summary, indent=2) + "\n")
     return summary
 
 
