@@ -28,6 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from drape.contact.bodies import ContactInputError, Scene
+from drape.contact.containment import has_inside, inside, one_point_per_piece
 
 __all__ = ["Contact", "CCD_FRACTION", "PROJECTIONS"]
 
@@ -282,8 +283,8 @@ class Contact:
         return alpha
 
     def check_start(self, u, t: float = 0.0) -> None:
-        """Refuse a start where the fabric intersects a body or itself, or lies closer than
-        ``dmin`` (half its thickness) to a body."""
+        """Refuse a start where the fabric intersects a body or itself, lies closer than
+        ``dmin`` (half its thickness) to a body, or lies inside a closed body."""
         x = self.positions(u, t)
         if ipctk.has_intersections(self.scene.mesh, x):
             raise ContactInputError(f"contact: the fabric starts intersecting {self._intersected(x)}; "
@@ -300,6 +301,23 @@ class Contact:
             if d <= self.dmin:
                 raise ContactInputError(f"contact: the fabric starts {d:.3g} m from a body, closer than "
                                         f"half its thickness ({self.dmin:.3g} m); move them apart")
+        self._check_outside(x)
+
+    def _check_outside(self, x) -> None:
+        """Refuse a fabric inside a closed body. It crosses no body's surface by now (checked
+        first), so each of its pieces lies wholly inside or wholly outside each body: one point
+        of each piece tells, by the body's winding number."""
+        n = self.scene.n_fabric
+        fabric_faces = self.scene.faces[np.all(self.scene.faces < n, axis=1)]
+        probes = x[one_point_per_piece(n, fabric_faces)]
+        for k, body in self.scene.meshed:
+            own = x[self.scene.body_of_vertex == k]
+            low, high = own.min(axis=0), own.max(axis=0)
+            near = probes[np.all((probes >= low) & (probes <= high), axis=1)]
+            if len(near) and has_inside(body.surface) and inside(own, body.surface.triangles, near).any():
+                raise ContactInputError(f"contact.body[{k}] ({body.name!r}): the fabric starts inside this "
+                                        f"closed body, and it must start outside every closed body; "
+                                        f"move the body or the fabric")
 
     def _intersected(self, x) -> str:
         """Which body (or the fabric itself) the fabric intersects at ``x``, in words."""
