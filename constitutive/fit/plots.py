@@ -16,8 +16,6 @@ True
 
 from __future__ import annotations
 
-from matplotlib.figure import Figure  # drawn without pyplot: the caller's backend is left alone
-
 from constitutive.datasets import CURVATURE_KES, MOMENT_KES
 
 __all__ = ["plot_fit"]
@@ -39,6 +37,9 @@ def plot_fit(result, path, points=None, dpi=120):
     -------
     path
     """
+    # matplotlib only when a plot is asked for; drawn without pyplot: the caller's backend is left alone
+    from matplotlib.figure import Figure
+
     loop = result.loop
     k = loop.kappa / CURVATURE_KES
     M = result.model / MOMENT_KES

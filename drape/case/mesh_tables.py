@@ -10,6 +10,7 @@ from pydantic import (
 )
 
 from drape.case.quantities import Q, _rule, _Section
+from meshes import graded_nodes
 
 __all__ = ['FineZone', 'StripMesh', 'RectangleMesh', 'CusickMesh', 'CircleMesh', 'FileMesh', 'MeshSpec']
 
@@ -64,8 +65,6 @@ class StripMesh(_MeshBase):
         """Node abscissae along the length, or None for nx equal cells."""
         if self.fine_zone is None:
             return None
-        from meshes import graded_nodes
-
         z = self.fine_zone
         return graded_nodes(self.length, self.nx, z.start, z.end, z.nx)
 

@@ -11,12 +11,15 @@ from __future__ import annotations
 
 import json
 import time
-from pathlib import Path
 
+from drape.case.build import build_material
+from drape.case.case import load_case
+from drape.identification.material_file import write_material
 from drape.identification.objective import misfit
-from drape.identification.parameters import PARAMETERS, full_point, kes_values
+from drape.identification.parameters import PARAMETERS, full_point, kes_values, overrides
+from drape.identification.report import simulated_measurements, write_report
 from drape.identification.store import Evaluation, append_evaluation, read_evaluations
-from drape.identification.surrogate import WITHIN
+from drape.identification.surrogate import WITHIN, Surrogate
 
 __all__ = ["FINAL", "INTERVAL_RULE", "MATCHED_Z", "finish"]
 
@@ -61,9 +64,6 @@ def _final_evaluation(search, found: dict, forward):
 
 def finish(search, found: dict, forward, scans, weight: float, thickness, definition) -> dict:
     """Run the identified point, write identified.json, material.toml and report.html."""
-    from drape.identification.material_file import write_material
-    from drape.identification.report import simulated_measurements, write_report
-
     final = _final_evaluation(search, found, forward)
     if not len(final.drapes):
         raise RuntimeError(f"the identified point's runs gave no drape (see {search.out / 'runs'})")
@@ -114,18 +114,12 @@ def finish(search, found: dict, forward, scans, weight: float, thickness, defini
 
 def _built(definition: dict, point: dict, weight: float):
     """The material a run of ``point`` builds (SI)."""
-    from drape.case.build import build_material
-    from drape.case.case import load_case
-    from drape.identification.parameters import overrides
-
     items = list(definition["set"]) + [f"material.kes.weight={weight:g}"] + overrides(point, weight)
     return build_material(load_case(definition["base"], items))
 
 
 def _refit(search, found: dict):
     """A surrogate on every evaluation, for the report's map."""
-    from drape.identification.surrogate import Surrogate
-
     s = Surrogate(search.box)
     for h in found["history"]:
         s.register(h["point"], h["J"])
