@@ -15,6 +15,7 @@ import shapely
 from drape.analyses.scan_measure import length_m, main, measure_scan, measure_surface
 from drape.analyses.outline import outline_harmonics, outline_irregularity
 from drape.analyses.scan import ScanError, find_disc_top
+from drape.analyses.scan_set import describe_scans, fabric_tables, face_pairs, format_tables, write_tables
 
 R, RD = 0.15, 0.09  # 30 cm specimen on an 18 cm disc
 R0, A, N = 0.125, 0.015, 7  # hem: r0 + A cos(n phi), folds 3 cm deep
@@ -296,9 +297,9 @@ def test_a_simulated_drape_read_from_its_vtu_gives_the_runs_own_summary(tmp_path
 
 
 # ---------------------------------------------------------------- a set of registered scans
-def test_scan_descriptors_of_a_dataset_file(tmp_path, benchmark_script, capsys):
-    """benchmarks/scan_descriptors.py on a small file of the registered-scan form: int16
-    vertices in units of 10 µm, per-fabric statistics without the creep series."""
+def test_scan_descriptors_of_a_dataset_file(tmp_path):
+    """A small file of the registered-scan form: int16 vertices in units of 10 µm, per-fabric
+    statistics without the creep series."""
     unit = 1e-5
     scans = {"fabric01_sample01_capture1": 6, "fabric01_sample01_capture2": 8,
              "fabric01_sample02_capture1": 8, "fabric21_sample01": 10,
@@ -309,8 +310,10 @@ def test_scan_descriptors_of_a_dataset_file(tmp_path, benchmark_script, capsys):
         arrays[f"{key}/vertices"] = np.round(pts / unit).astype(np.int16)
         arrays[f"{key}/faces"] = tri.astype(np.uint16)
     np.savez(tmp_path / "scans.npz", **arrays)
-    script = benchmark_script("scan_descriptors")
-    assert script.main([str(tmp_path / "scans.npz"), "--out", str(tmp_path / "out")]) == 0
+    rows = describe_scans(tmp_path / "scans.npz")
+    assert not any(r["error"] for r in rows)
+    tables = fabric_tables(rows)
+    write_tables(tmp_path / "out", rows, tables)
     import csv
 
     rows = {r["key"]: r for r in csv.DictReader(open(tmp_path / "out" / "scans.csv"))}
@@ -324,7 +327,7 @@ def test_scan_descriptors_of_a_dataset_file(tmp_path, benchmark_script, capsys):
     creep = list(csv.DictReader(open(tmp_path / "out" / "creep.csv")))
     assert [(c["obs"], c["scans"], c["nodes_mode"]) for c in creep] == [("1", "1", "5"),
                                                                         ("2", "1", "5")]
-    assert "fabrics (creep series excluded)" in capsys.readouterr().out
+    assert "fabrics (creep series excluded)" in format_tables(tables)
 
 
 def test_training_scans_judged_as_the_prediction_of_the_test_scans(tmp_path, benchmark_script):
@@ -359,16 +362,15 @@ def test_training_scans_judged_as_the_prediction_of_the_test_scans(tmp_path, ben
         assert abs(float(rows[1]["dDC"])) < 1.0 and rows[1]["DC_within_5"] == "True"
 
 
-def test_face_down_against_face_up_of_specimens_captured_four_times(benchmark_script):
+def test_face_down_against_face_up_of_specimens_captured_four_times():
     """Two specimens, captures 1–2 one face up and 3–4 the other, worked by hand: face down
     is 4 and 5.5 points above face up (mean 4.75, sd 1.06); one face's two captures differ by
     1, 0, 0 and 2 points (half of each, averaged: 0.375). A specimen without its four
     captures is left out."""
-    script = benchmark_script("scan_descriptors")
     rows = [{"fabric": 1, "sample": s, "series": "capture", "number": n, "dc_percent": dc}
             for s, dcs in ((1, (40, 41, 44.5, 44.5)), (2, (42, 42, 46.5, 48.5)), (3, (50, 50, 50)))
             for n, dc in zip((1, 2, 3, 4), dcs)]
-    (face,) = script.face_pairs(rows)
+    (face,) = face_pairs(rows)
     assert face["specimens"] == 2
     assert face["down_minus_up"] == pytest.approx(4.75)
     assert face["down_minus_up_std"] == pytest.approx(np.std([4.0, 5.5], ddof=1), abs=0.005)
