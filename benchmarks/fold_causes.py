@@ -44,6 +44,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from drape.batch.ensemble import ensemble_stats  # noqa: E402
+from drape.batch.matched_dc import fabric_keys  # noqa: E402
 from drape.batch.rows import SweepRow, read_results
 from drape.batch.sweep import run_sweep  # noqa: E402
 
@@ -65,14 +66,6 @@ CANDIDATES = {
     "tensor+mesh_90": ["mesh.n_circumferential=90"],
     "tensor+rigidity": ["model.rigidity_variation.cv=0.15", "model.rigidity_variation.correlation_length=3cm"],
 }
-
-
-def fabric_keys(B: float, hb_ratio: float = 0.5, weight: float = 15.0) -> list[str]:
-    """Overrides of a fabric with equal warp and weft: B, 2HB = hb_ratio·B, W (KES units)."""
-    hb = hb_ratio * B
-    return [f"material.kes.B_warp={B:g}", f"material.kes.B_weft={B:g}",
-            f"material.kes.HB2_warp={hb:g}", f"material.kes.HB2_weft={hb:g}",
-            f"material.kes.weight={weight:g}"]
 
 
 def _keys(overrides: list[str]) -> dict:

@@ -1,8 +1,10 @@
-"""The node-count benchmark's matching of B to a fabric's DC (benchmarks/nodes_at_matched_dc.py),
-on a made-up DC(B) instead of forward runs: the secant in log B finds B to within its
-tolerance in a few sweeps, from any start, and says nothing for a run that stopped."""
+"""The matching of B to a fabric's DC (drape.batch.matched_dc), on a made-up DC(B) instead of
+forward runs: the secant in log B finds B to within its tolerance in a few sweeps, from any
+start, and says nothing for a run that stopped."""
 import numpy as np
 import pytest
+
+from drape.batch import matched_dc as matched
 
 
 def dc_of(B):
@@ -10,8 +12,7 @@ def dc_of(B):
     return 20.0 + 25.0 * np.log(B / 0.01)
 
 
-def test_secant_step_on_a_log_linear_curve_lands_on_the_target(benchmark_script):
-    matched = benchmark_script("nodes_at_matched_dc")
+def test_secant_step_on_a_log_linear_curve_lands_on_the_target():
     points = [(0.05, dc_of(0.05)), (0.08, dc_of(0.08))]
     B = matched.secant_B(points, 60.0)
     assert dc_of(B) == pytest.approx(60.0, abs=0.01)            # B printed to 4 digits
@@ -20,8 +21,7 @@ def test_secant_step_on_a_log_linear_curve_lands_on_the_target(benchmark_script)
                                                                rel=1e-3)
 
 
-def test_secant_match_reaches_each_fabric_within_tolerance(benchmark_script, monkeypatch, tmp_path):
-    matched = benchmark_script("nodes_at_matched_dc")
+def test_secant_match_reaches_each_fabric_within_tolerance(monkeypatch, tmp_path):
     sweeps = []
 
     def fake_sweep(case, rows, out, workers, overrides):
@@ -53,8 +53,7 @@ def test_secant_match_reaches_each_fabric_within_tolerance(benchmark_script, mon
     assert len(sweeps) <= 4 and "fabric1" in sweeps[0]
 
 
-def test_table_row_counts_the_runs_within_the_measured_range(benchmark_script):
-    matched = benchmark_script("nodes_at_matched_dc")
+def test_table_row_counts_the_runs_within_the_measured_range():
     fab = {"fabric": "5", "dc_mean": "76.7", "dc_std": "2.0", "nodes_min": "7", "nodes_max": "8"}
     runs = [{"DC_percent": "75.0", "nodes": "8"}, {"DC_percent": "76.0", "nodes": "9"}]
     row = matched.table_row(fab, "tensor", 0.1377, runs)
