@@ -6,42 +6,20 @@ support, lowered away, with the specimen's rigidity varying over it: each case g
 lowered case's ``[contact]`` (the support placed half the fabric's thickness plus half the
 barrier layer below it), its ``[model.rigidity_variation]``, the full weight at once, and,
 where the fabric's sheet gives no shear rigidity G, the lowered set-up's. Everything else
-(tester, mesh, fabric, damping, solver) stays the validation case's own.
+(tester, mesh, fabric, damping, solver) stays the validation case's own
+(:mod:`drape.batch.validation_lowered`).
 
     python benchmarks/validation_lowered.py --out out/validation_lowered --seeds 3
 """
 from __future__ import annotations
 
 import argparse
-import copy
 import sys
-import tomllib
 from pathlib import Path
 
-import tomli_w
-
-from constitutive.units import parse_quantity
+from drape.batch.validation_lowered import write_lowered_cases
 
 ROOT = Path(__file__).resolve().parents[1]
-LOWERED = ROOT / "cases" / "cusick_lowered.toml"
-
-
-def lowered_case(case: dict, lowered: dict) -> dict:
-    """``case`` (a validation case as a TOML dict) worked as ``lowered`` works its specimen."""
-    out = copy.deepcopy(case)
-    out["model"]["rigidity_variation"] = copy.deepcopy(lowered["model"]["rigidity_variation"])
-    out["load"]["gravity"]["ramp_time"] = lowered["load"]["gravity"]["ramp_time"]
-    if "G" in lowered["material"]["kes"]:
-        out["material"]["kes"].setdefault("G", lowered["material"]["kes"]["G"])
-    contact = copy.deepcopy(lowered["contact"])
-    dhat_mm = parse_quantity(contact["dhat"]).to("mm").magnitude
-    thickness = case["material"]["kes"]["thickness"]     # KES sheets print mm
-    thickness_mm = parse_quantity(thickness).to("mm").magnitude if isinstance(thickness, str) else float(thickness)
-    for body in contact["body"]:
-        if body["name"] == "support":
-            body["point"] = [0, 0, f"{-(0.5 * thickness_mm + 0.5 * dhat_mm):.6g} mm"]
-    out["contact"] = contact
-    return out
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -53,12 +31,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--cases", type=Path, default=ROOT / "cases" / "validation")
     args = p.parse_args(argv)
 
-    lowered = tomllib.loads(LOWERED.read_text())
-    folder = args.out / "cases"
-    folder.mkdir(parents=True, exist_ok=True)
-    for path in sorted(args.cases.glob("*.toml")):
-        case = lowered_case(tomllib.loads(path.read_text()), lowered)
-        (folder / path.name).write_text(tomli_w.dumps(case))
+    folder = write_lowered_cases(args.cases, args.out / "cases")
 
     from drape.batch.validation_set import main as validate
     workers = [] if args.workers is None else ["--workers", str(args.workers)]

@@ -34,9 +34,9 @@ def test_the_validation_cases_are_the_published_fabrics():
 
 
 def test_the_cotton_anisotropy_table_splits_the_sheet_about_the_mean_each_row_names():
-    """benchmarks/cotton_anisotropy.csv: each row a valid case, its B and 2HB split warp : weft
-    as its name says, about the geometric or the arithmetic mean of the printed 0.118 and 0.124."""
-    rows = read_table(ROOT / "benchmarks" / "cotton_anisotropy.csv")
+    """cases/cotton_anisotropy.csv: each row a valid case, its B and 2HB split warp : weft as its
+    name says, about the geometric or the arithmetic mean of the printed 0.118 and 0.124."""
+    rows = read_table(ROOT / "cases" / "cotton_anisotropy.csv")
     assert len(rows) == 10
     for row in rows:
         kes = load_case(CASES / "cotton_broadcloth.toml", row.overrides()).material.kes
@@ -89,27 +89,26 @@ def test_a_folder_without_validation_cases_is_refused(tmp_path, capsys):
         in capsys.readouterr().err
 
 
-def test_validation_fabrics_let_down_keep_their_own_set_up(tmp_path, benchmark_script):
-    """benchmarks/validation_lowered.py: each validation case gets the lowered case's support,
+def test_validation_fabrics_let_down_keep_their_own_set_up(tmp_path):
+    """drape.batch.validation_lowered: each validation case gets the lowered case's support,
     lowering and rigidity field, with the support half the fabric's thickness plus half the
     barrier layer below it (as cusick_lowered.toml places it for its 0.30 mm fabric), and the
     lowered set-up's shear rigidity G where its sheet gives none; it keeps its own tester,
     fabric, mesh and measured values, and a G of its own."""
     import tomllib
 
-    import tomli_w
+    from drape.batch.validation_lowered import LOWERED, lowered_case, write_lowered_cases
 
-    script = benchmark_script("validation_lowered")
-    lowered_toml = tomllib.loads(script.LOWERED.read_text())
-    lowered = load_case(script.LOWERED)
+    lowered_toml = tomllib.loads(LOWERED.read_text())
+    lowered = load_case(LOWERED)
     support = {b.name: b for b in lowered.contact.body}["support"]
     assert support.point[2] == pytest.approx(-(0.5 * lowered.material.kes.thickness * 1e-3
                                                + 0.5 * lowered.contact.dhat), abs=1e-12)
+    folder = write_lowered_cases(CASES, tmp_path / "lowered")
+    assert sorted(p.name for p in folder.glob("*.toml")) == sorted(p.name for p in CASES.glob("*.toml"))
     for path in sorted(CASES.glob("*.toml")):
         original = load_case(path)
-        out = tmp_path / path.name
-        out.write_text(tomli_w.dumps(script.lowered_case(tomllib.loads(path.read_text()), lowered_toml)))
-        case = load_case(out)
+        case = load_case(folder / path.name)
         body = {b.name: b for b in case.contact.body}["support"]
         assert body.point[2] == pytest.approx(-(0.5 * original.material.kes.thickness * 1e-3
                                                 + 0.5 * case.contact.dhat), abs=1e-12)
@@ -123,4 +122,4 @@ def test_validation_fabrics_let_down_keep_their_own_set_up(tmp_path, benchmark_s
         assert case.material.kes.model_copy(update={"G": None}) == original.material.kes
     own = tomllib.loads(path.read_text())
     own["material"]["kes"]["G"] = 1.2
-    assert script.lowered_case(own, lowered_toml)["material"]["kes"]["G"] == 1.2
+    assert lowered_case(own, lowered_toml)["material"]["kes"]["G"] == 1.2
