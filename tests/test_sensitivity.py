@@ -1,5 +1,6 @@
 """The one-factor-at-a-time study: ΔDC and Δnodes from a sweep's results against hand values,
-the tornado's bars, and benchmarks/bench_sensitivity.py --tiny end to end (plumbing only)."""
+the tornado's bars, and the Cusick factors end to end on a tiny case (plumbing only); the fold
+preference study's energies, table and plumbing."""
 from __future__ import annotations
 
 import csv
@@ -10,6 +11,8 @@ from pathlib import Path
 
 import pytest
 
+from drape.batch import cusick_sensitivity
+from drape.batch import fold_preference as folds
 from drape.batch import sensitivity as sens
 from drape.batch.rows import read_results
 
@@ -127,12 +130,11 @@ def test_tornado_bars_are_the_changes_sorted_by_swing_with_the_measured_line(tmp
     assert json.loads(paths["json"].read_text())["base"]["DC_percent"] == 60.0
 
 
-def test_bench_levels_are_valid_cases_of_the_wool(benchmark_script):
+def test_cusick_levels_are_valid_cases_of_the_wool():
     from drape.case.case import load_case
 
-    bench = benchmark_script("bench_sensitivity")
     case = load_case(WOOL)
-    factors = bench.factors(case)
+    factors = cusick_sensitivity.factors(case)
     names = [f.name for f in factors]
     for expected in ("friction_length", "friction_order", "friction_off", "membrane_tension",
                      "shear_G12", "perturbation_amplitude", "perturbation_spectrum",
@@ -146,15 +148,17 @@ def test_bench_levels_are_valid_cases_of_the_wool(benchmark_script):
         load_case(WOOL, row.overrides())      # raises for a level that is no valid case
 
 
-def test_bench_tiny_runs_the_factors_and_writes_table_json_and_chart(tmp_path, capsys, benchmark_script,
-                                                                    tiny_cusick):
-    bench = benchmark_script("bench_sensitivity")
+def test_cusick_factors_run_tiny_and_write_table_json_and_chart(tmp_path, tiny_cusick):
     out = tmp_path / "sens"
-    # --tiny, made tinier still (12 triangles, two steps) to keep the test short
-    args = ["--tiny", "--factors", "friction_off,friction_order", "--out", str(out),
-            "--workers", "2", "--quiet", *sum((["--set", o] for o in tiny_cusick), [])]
-    assert bench.main(args) == 0
-    printed = capsys.readouterr().out
+    # a tiny case (12 triangles, two steps) to keep the test short
+    factors = cusick_sensitivity.study_factors(WOOL, tiny_cusick, names=["friction_off", "friction_order"])
+    assert [f.name for f in factors] == ["friction_order", "friction_off"]
+
+    def run(overrides=tiny_cusick, resume=False):
+        return sens.run_study(WOOL, factors, out, overrides=list(overrides), workers=2,
+                              resume=resume, quiet=True)
+
+    printed = sens.markdown_table(run())
     study = json.loads((out / "sensitivity.json").read_text())
     assert (out / "tornado.png").read_bytes()[:8] == PNG_MAGIC
     md = (out / "sensitivity.md").read_text()
@@ -171,16 +175,15 @@ def test_bench_tiny_runs_the_factors_and_writes_table_json_and_chart(tmp_path, c
             assert lv["dDC"] == pytest.approx(float(results[lv["name"]]["DC_percent"]) - base,
                                               abs=1e-12)
     # the same study again keeps every finished run; another --set is another study
-    assert bench.main(args + ["--resume"]) == 0
+    run(resume=True)
     assert len(read_results(out / "results.csv")) == 4
-    assert bench.main(args + ["--resume", "--set", "model.damping.alpha=5"]) == 2
-    assert "use a new --out" in capsys.readouterr().err
+    with pytest.raises(sens.StudyError, match="use a new --out"):
+        run([*tiny_cusick, "model.damping.alpha=5"], resume=True)
 
 
-def test_fold_preference_names_the_frictionless_state_of_least_energy(tmp_path, benchmark_script):
+def test_fold_preference_names_the_frictionless_state_of_least_energy(tmp_path):
     """Π = U + V from each run's summary.json; the sentence names the lowest frictionless Π,
     whatever friction-on runs reach (hand-made records)."""
-    bench = benchmark_script("fold_preference")
     records = []
     for name, n, friction, nodes, U, V in (("a", 4, "false", 8, 0.5e-3, -1.52e-3),
                                            ("b", 6, "false", 6, 0.4e-3, -1.50e-3),
@@ -191,27 +194,23 @@ def test_fold_preference_names_the_frictionless_state_of_least_energy(tmp_path, 
         records.append({"name": name, "load.perturbation.n_lobes": str(n), "material.friction": friction,
                         "status": "settled", "nodes": str(nodes), "DC_percent": "50",
                         "settling_time_s": "1", "run_dir": f"runs/{name}"})
-    table = bench.energy_table(tmp_path, records)
+    table = folds.energy_table(tmp_path, records)
     assert [(r["imposed"], r["friction"]) for r in table] == [(6, True), (4, False), (6, False)]
     assert table[1]["Pi"] == pytest.approx(0.5e-3 - 1.52e-3, abs=1e-15)
-    text = bench.markdown(table)
+    text = folds.markdown(table)
     assert "lowest energy is the 6-node state (imposed 6, Π = -1.1000 mJ)" in text
-    bench.plot(table, tmp_path / "p.png", "t", measured=5)
+    folds.energy_figure(table, "t", measured=5).savefig(tmp_path / "p.png")
     assert (tmp_path / "p.png").read_bytes()[:8] == PNG_MAGIC
-    assert bench.measured_nodes(WOOL) == 5
+    assert folds.measured_nodes(WOOL) == 5
 
 
-def test_fold_preference_tiny_runs_each_mode_with_and_without_friction(tmp_path, capsys, benchmark_script,
-                                                                        tiny_cusick):
-    bench = benchmark_script("fold_preference")
+def test_fold_preference_tiny_runs_each_mode_with_and_without_friction(tmp_path, tiny_cusick):
     out = tmp_path / "folds"
-    args = [str(WOOL), "--tiny", "--lobes", "2,3", "--out", str(out), "--workers", "2",
-            *sum((["--set", o] for o in tiny_cusick), [])]
-    assert bench.main(args) == 0
+    text = folds.run_fold_preference(WOOL, [2, 3], out, overrides=tiny_cusick, workers=2)
     results = {r["name"]: r for r in read_results(out / "results.csv")}
     assert sorted(results) == ["n2_friction", "n2_frictionless", "n3_friction", "n3_frictionless"]
     assert results["n3_frictionless"]["load.perturbation.n_lobes"] == "3"
     assert results["n3_frictionless"]["material.friction"] == "false"
     md = (out / "fold_preference.md").read_text()
-    assert md.count("| completed |") == 4 and "Π = U + V" in capsys.readouterr().out
+    assert md.count("| completed |") == 4 and "Π = U + V" in text and md == text + "\n"
     assert (out / "fold_preference.png").read_bytes()[:8] == PNG_MAGIC
