@@ -109,21 +109,21 @@ def test_peirce_platform_says_when_the_line_is_not_reached_and_needs_a_platform(
         analysis.probe(ctx, {"displacement": _hinged(mesh, 0.03, 10.0)})
 
 
-def test_grip_study_holds_platform_and_ruler_at_the_given_edge(tmp_path, benchmark_script):
-    """benchmarks/peirce_platform_grip.py: the case at rest keeps the platform case's bodies,
+def test_grip_study_holds_platform_and_ruler_at_the_given_edge(tmp_path):
+    """drape.batch.peirce_grip: the case at rest keeps the platform case's bodies,
     fixed (no path), their front edges at the edge asked for, and the overhang beyond it; with
     another barrier layer the strip still starts in the middle of both layers."""
+    from drape.batch.peirce_grip import resting_case
     from drape.case.case import load_case
 
-    script = benchmark_script("peirce_platform_grip")
-    path, overhang = script._resting_case(0.0063, tmp_path)
+    path, overhang = resting_case(0.0063, tmp_path)
     case = load_case(path)
     assert overhang == pytest.approx(case.mesh.length - 0.0063)
     assert [b.name for b in case.contact.body] == ["platform", "ruler"]
     for body in case.contact.body:
         assert body.path is None
         assert body.centre[0] + 0.5 * body.size[0] == pytest.approx(0.0063, abs=1e-12)
-    thin, _ = script._resting_case(0.0063, tmp_path, dhat=2e-6)
+    thin, _ = resting_case(0.0063, tmp_path, dhat=2e-6)
     thin = load_case(thin)
     platform, ruler = thin.contact.body
     half = case.contact.body[1].centre[2] - 0.5 * case.contact.body[1].size[2] - 0.5 * case.contact.dhat
