@@ -12,7 +12,8 @@ descriptors; run folders become names), and appends those whose point the bundle
 and stamps them with today's: for runs made before a change that left the forward runs as
 they were (a new case key at its default). ``tests/test_identify.py`` checks that every bundled
 evaluation carries the fingerprint of a bundled case as it loads now, so a change of the case
-that would make the runs stale fails there.
+that would make the runs stale fails there. The bundling is :mod:`drape.identification.bundle`;
+this script gives it a command line.
 """
 from __future__ import annotations
 
@@ -20,28 +21,9 @@ import argparse
 import sys
 from pathlib import Path
 
+from drape.identification.bundle import bundle
+
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def setup_of(case: Path) -> str:
-    """Fingerprint of ``case`` as ``drape.identify --base case`` computes it (no --set, its weight)."""
-    from drape.case.case import dump_case, load_case
-    from drape.identification.store import fingerprint
-
-    loaded = load_case(case, [])
-    return fingerprint(dump_case(loaded), [], float(loaded.material.kes.weight))
-
-
-def bundled(evaluation, setup: str, index: int):
-    """``evaluation`` as the bundle keeps it, its ``index``-th: stamped ``setup``, named
-    ``bNNN``, its run folders made names."""
-    from drape.identification.store import Evaluation
-
-    name = f"b{index:03d}"
-    runs = [{"seed": r["seed"], "status": r["status"], "run_dir": f"bundled/{setup}/{name}/s{r['seed']}",
-             "wall_time_s": r.get("wall_time_s", 0.0), "reason": r.get("reason", ""), "drape": r.get("drape")}
-            for r in evaluation.runs]
-    return Evaluation(evaluation.point, setup, runs, name)
 
 
 def main(argv=None) -> int:
@@ -51,21 +33,7 @@ def main(argv=None) -> int:
     parser.add_argument("--from-setup", metavar="OLD", help="take the runs stored under this earlier fingerprint")
     parser.add_argument("--out", type=Path, default=ROOT / "cases" / "libraries" / "identification")
     args = parser.parse_args(argv)
-    from drape.identification.store import append_evaluation, read_evaluations
-
-    setup = setup_of(args.case)
-    wanted = args.from_setup or setup
-    stored = read_evaluations(args.out)
-    have = {(e.setup, tuple(sorted(e.point.items(), key=str))) for e in stored}
-    added = 0
-    for library in args.libraries:
-        for e in read_evaluations(library):
-            key = (setup, tuple(sorted(e.point.items(), key=str)))
-            if e.setup != wanted or key in have or not e.drapes.dc.size:
-                continue
-            append_evaluation(args.out, bundled(e, setup, len(stored) + added))
-            have.add(key)
-            added += 1
+    added, setup = bundle(args.libraries, args.case, args.out, args.from_setup)
     print(f"{added} evaluations added to {args.out} (set-up {setup} of {args.case})")
     return 0
 

@@ -361,16 +361,18 @@ def test_an_answer_the_search_ran_is_not_run_again(tmp_path):
     assert runs.runs == 2 and other.name == f"{FINAL}-1"
 
 
-def test_stop_replay_counts_the_points_run_before_one_comes_back(benchmark_script, tmp_path, capsys):
-    """benchmarks/search_stop_replay.py: the stop fires at the first point within W box widths
-    (log scale) of an earlier one; 1.5 and 1.501 cm are 0.0004 widths of 0.6-3 cm apart."""
-    script = benchmark_script("search_stop_replay")
+def test_stop_replay_counts_the_points_run_before_one_comes_back(tmp_path):
+    """The stop fires at the first point within W box widths (log scale) of an earlier one;
+    1.5 and 1.501 cm are 0.0004 widths of 0.6-3 cm apart."""
+    from drape.identification.stop_replay import replay_table, stop_index
+
     box = {"bending_length": (0.6, 3.0)}
     points = [{"bending_length": c} for c in (1.0, 2.0, 1.5, 1.501, 1.6)]
-    assert script.stop_index(points, box, 0.01) == 3
-    assert script.stop_index(points, box, 0.0) == 5
-    assert script.stop_index(points, box, 0.2) == 2      # 1.5 lies 0.18 widths from 2.0
-    assert script.main([str(tmp_path)]) == 2 and "no identification folders" in capsys.readouterr().err
+    assert stop_index(points, box, 0.01) == 3
+    assert stop_index(points, box, 0.0) == 5
+    assert stop_index(points, box, 0.2) == 2      # 1.5 lies 0.18 widths from 2.0
+    with pytest.raises(ValueError, match="no identification folders"):
+        replay_table(tmp_path)
 
 
 def test_a_fabrics_library_leaves_out_its_own_runs(benchmark_script, tmp_path):
@@ -391,39 +393,40 @@ def test_a_fabrics_library_leaves_out_its_own_runs(benchmark_script, tmp_path):
         str(tmp_path / "fabric14" / "runs" / "e000" / "s0"), str(tmp_path / "fabric04" / "runs" / "e001" / "s0")]
 
 
-def test_the_split_puts_every_capture_of_a_specimen_in_its_half(benchmark_script):
-    """benchmarks/identify_fabrics.py: odd samples train, even ones test; with both faces each
-    specimen's four captures go to its half, with ``faces="up"`` captures 1-2 only; the face-down
-    captures and the creep series are listed apart either way."""
-    script = benchmark_script("identify_fabrics")
+def test_the_split_puts_every_capture_of_a_specimen_in_its_half():
+    """Odd samples train, even ones test; with both faces each specimen's four captures go to
+    its half, with ``faces="up"`` captures 1-2 only; the face-down captures and the creep series
+    are listed apart either way."""
+    from drape.identification.specimen_split import split
+
     scans = {f"fabric04_sample{s:02d}_capture{c}": f"{s}.{c}" for s in (1, 2) for c in (1, 2, 3, 4)}
     scans.update({"fabric21_sample03": "21.3", "fabric01_sample01_obs2": "obs", "vertex_unit_m": "-"})
-    both, up = script.split(scans), script.split(scans, "up")
+    both, up = split(scans), split(scans, "up")
     assert both[4]["train"] == ["1.1", "1.2", "1.3", "1.4"] and both[4]["test"] == ["2.1", "2.2", "2.3", "2.4"]
     assert up[4]["train"] == ["1.1", "1.2"] and up[4]["test"] == ["2.1", "2.2"]
     assert both[4]["down"] == up[4]["down"] == ["1.3", "1.4", "2.3", "2.4"]
     assert both[21]["train"] == ["21.3"] and both[1]["creep"] == [(1, 2, "obs")]
     with pytest.raises(ValueError, match="faces"):
-        script.split(scans, "down")
+        split(scans, "down")
 
 
-def test_face_dcs_measure_each_capture_once(benchmark_script, monkeypatch):
-    """benchmarks/identify_fabrics.py: the face-up and face-down mean DCs come from the halves'
-    drapes; only face-down captures in neither half (``faces="up"``) are measured again."""
+def test_face_dcs_measure_each_capture_once(monkeypatch):
+    """The face-up and face-down mean DCs come from the halves' drapes; only face-down captures
+    in neither half (``faces="up"``) are measured again."""
+    from drape.identification import specimen_split
     from drape.identification.target import Drape, Drapes
 
-    script = benchmark_script("identify_fabrics")
     dc = {"1.1": 50.0, "1.3": 60.0, "2.1": 52.0, "2.3": 64.0}
     measured = []
 
     def drapes(paths):
         return Drapes(tuple(Drape(p, dc[p], 8, ()) for p in paths))
 
-    monkeypatch.setattr(script, "_measure", lambda paths: measured.extend(paths) or drapes(paths))
+    monkeypatch.setattr(specimen_split, "measure", lambda paths: measured.extend(paths) or drapes(paths))
     for faces, again in (("both", []), ("up", ["1.3", "2.3"])):
-        parts = script.split({f"fabric04_sample0{p[0]}_capture{p[2]}": p for p in dc}, faces)[4]
+        parts = specimen_split.split({f"fabric04_sample0{p[0]}_capture{p[2]}": p for p in dc}, faces)[4]
         measured.clear()
-        assert script.face_dcs(parts, drapes(parts["train"]), drapes(parts["test"])) == (51.0, 62.0)
+        assert specimen_split.face_dcs(parts, drapes(parts["train"]), drapes(parts["test"])) == (51.0, 62.0)
         assert measured == again
 
 
@@ -456,23 +459,23 @@ def test_a_bundled_library_warm_starts_the_search_and_is_never_written(tmp_path)
     assert cold.runs == warm.runs == 8
 
 
-def test_every_bundled_evaluation_is_of_a_bundled_case_as_it_loads_now(benchmark_script):
+def test_every_bundled_evaluation_is_of_a_bundled_case_as_it_loads_now():
     """The forward runs shipped in cases/libraries/identification carry the set-up fingerprint
     of a bundled Cusick case with a KES sheet as it loads today. A change of such a case (or of
     what a case resolves to) changes its fingerprint and fails here: the runs are then stale
-    (benchmarks/bundle_library.py says how to bundle new ones)."""
+    (drape.identification.bundle bundles new ones)."""
     from constitutive.bundled import cases_dir
     from drape.case.case import load_case
+    from drape.identification.bundle import setup_of
     from drape.identification.store import read_evaluations
 
-    script = benchmark_script("bundle_library")
     bundle = read_evaluations(cases_dir("libraries", "identification"))
     assert len(bundle) >= 40
     setups = set()
     for path in cases_dir().glob("*.toml"):
         case = load_case(path, [])
         if case.case.analysis == "cusick" and case.material.kes is not None:
-            setups.add(script.setup_of(path))
+            setups.add(setup_of(path))
     assert {e.setup for e in bundle} <= setups
     run_dirs = [r["run_dir"] for e in bundle for r in e.runs]
     assert len(run_dirs) == len(set(run_dirs)) and all(d.startswith("bundled/") for d in run_dirs)

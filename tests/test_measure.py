@@ -16,6 +16,7 @@ from drape.analyses.scan_measure import length_m, main, measure_scan, measure_su
 from drape.analyses.outline import outline_harmonics, outline_irregularity
 from drape.analyses.scan import ScanError, find_disc_top
 from drape.analyses.scan_set import describe_scans, fabric_tables, face_pairs, format_tables, write_tables
+from drape.identification.specimen_split import judge_scans_alone
 
 R, RD = 0.15, 0.09  # 30 cm specimen on an 18 cm disc
 R0, A, N = 0.125, 0.015, 7  # hem: r0 + A cos(n phi), folds 3 cm deep
@@ -330,13 +331,13 @@ def test_scan_descriptors_of_a_dataset_file(tmp_path):
     assert "fabrics (creep series excluded)" in format_tables(tables)
 
 
-def test_training_scans_judged_as_the_prediction_of_the_test_scans(tmp_path, benchmark_script):
-    """benchmarks/identify_fabrics.py --scans-alone: fabric 1's odd specimen (the training half)
+def test_training_scans_judged_as_the_prediction_of_the_test_scans(tmp_path):
+    """The scans alone: fabric 1's odd specimen (the training half)
     hangs in 8 folds, its even one in 6, so the training scans miss the test's mode by 2; fabric
     2's halves hang in 7 and 8 and meet the target. The hems' mean radius is the same in every
     scan, so the DCs differ by far less than 5 points; fabric 21, with no test specimen, is left
     out. A face-down capture (3, 4) goes to its specimen's half, or to neither with
-    ``--faces up``."""
+    ``faces="up"``."""
     unit = 1e-5
     scans = {"fabric01_sample01_capture1": 8, "fabric01_sample01_capture2": 8,
              "fabric01_sample01_capture3": 4, "fabric01_sample02_capture1": 6,
@@ -348,13 +349,11 @@ def test_training_scans_judged_as_the_prediction_of_the_test_scans(tmp_path, ben
         arrays[f"{key}/vertices"] = np.round(pts / unit).astype(np.int16)
         arrays[f"{key}/faces"] = tri.astype(np.uint16)
     np.savez(tmp_path / "scans.npz", **arrays)
-    script = benchmark_script("identify_fabrics")
     import csv
 
     for faces, train_nodes in (("both", "8 8 4"), ("up", "8 8")):
         out = tmp_path / faces
-        assert script.main([str(tmp_path / "scans.npz"), "--out", str(out), "--scans-alone",
-                            "--faces", faces]) == 0
+        judge_scans_alone(tmp_path / "scans.npz", out, faces)
         rows = {int(r["fabric"]): r for r in csv.DictReader(open(out / "scans_alone.csv"))}
         assert sorted(rows) == [1, 2]
         assert (rows[1]["train_nodes"], rows[1]["test_nodes"]) == (train_nodes, "6 6")
