@@ -11,7 +11,7 @@ import os
 import time
 
 from constitutive.fit import DEFAULT_ACCEL_TIME
-from constitutive.fit.cli import all_thesis, format_all
+from constitutive.fit.tables import all_thesis, format_all
 
 
 def main():

@@ -46,7 +46,7 @@ def main(argv: list[str] | None = None) -> int:
     """Command-line entry point; returns the exit code."""
     from drape.batch.sensitivity import markdown_table, factor_sentences
     from drape.batch.rows import SweepError
-    from drape.batch.sweep_cli import add_batch_options
+    from drape.cli.common import add_batch_options
     from drape.run.termination import sigterm_raises, stopped
 
     p = argparse.ArgumentParser(
@@ -86,7 +86,7 @@ def main(argv: list[str] | None = None) -> int:
                               resume=args.resume, quiet=args.quiet)
     except (StudyError, SweepError) as exc:
         print(f"error: {exc}", file=sys.stderr)
-        return 2                           # bad input (drape.run.cli.EXIT_BAD_INPUT)
+        return 2                           # bad input (drape.cli.common.EXIT_BAD_INPUT)
     except KeyboardInterrupt as exc:
         return stopped(exc, "study", f"continue with --resume --out {out}")
     print(markdown_table(study))

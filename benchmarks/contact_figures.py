@@ -49,7 +49,7 @@ def main(argv=None) -> int:
 
     pyvista.OFF_SCREEN = True
     from drape.run.pictures import contact_bodies, render_step
-    from drape.run.runner import main as run
+    from drape.cli.run import main as run
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

@@ -29,7 +29,7 @@ def main(argv=None) -> int:
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="case override")
     args = p.parse_args(argv)
     sys.path.insert(0, str(ROOT))
-    import drape.run.runner as run
+    import drape.cli.run as run
     from constitutive.friction import FrictionState
     from constitutive.friction_switching import SwitchCounter
 

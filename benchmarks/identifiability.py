@@ -26,7 +26,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from drape.case.case import load_case  # noqa: E402
-from drape.identification.cli import main as identify  # noqa: E402
+from drape.cli.identify import main as identify  # noqa: E402
 from drape.identification.parameters import full_point, overrides  # noqa: E402
 from drape.run.output import read_pvd  # noqa: E402
 from drape.run.runner import run_case  # noqa: E402

@@ -50,7 +50,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from drape.identification.cli import main as identify  # noqa: E402
+from drape.cli.identify import main as identify  # noqa: E402
 from identifiability import add_forward_options  # noqa: E402
 from drape.identification.objective import misfit  # noqa: E402
 from drape.identification.parameters import DEFAULT_FREE, parse_box  # noqa: E402

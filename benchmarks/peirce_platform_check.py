@@ -34,7 +34,7 @@ ELASTIC = ["material.friction=false", "material.d=0"]
 
 def run_shipped_case(case: str, out: Path, overrides) -> dict:
     """Run the shipped case ``case`` into ``out`` with ``--set`` overrides; its analysis summary."""
-    from drape.run.runner import main as run
+    from drape.cli.run import main as run
 
     args = [str(ROOT / "cases" / case), "--out", str(out)]
     for item in overrides:

@@ -33,7 +33,7 @@ def main(argv: list[str] | None = None) -> int:
 
     folder = write_lowered_cases(args.cases, args.out / "cases")
 
-    from drape.batch.validation_set import main as validate
+    from drape.cli.validate import main as validate
     workers = [] if args.workers is None else ["--workers", str(args.workers)]
     return validate([str(folder), "--seeds", str(args.seeds), "--out", str(args.out / "runs"),
                      "--resume", *workers])

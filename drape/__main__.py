@@ -1,6 +1,6 @@
-"""``python -m drape COMMAND``: the ``drape`` command (:func:`drape.commands.main`)."""
+"""``python -m drape COMMAND``: the ``drape`` command (:func:`drape.cli.main`)."""
 import sys
 
-from drape.commands import main
+from drape.cli import main
 
 sys.exit(main())

@@ -1,7 +1,8 @@
-"""``python -m drape.identify``: the ``drape identify`` command (:func:`drape.identification.cli.main`)."""
+"""``python -m drape.identify``: the ``drape identify`` command (:func:`drape.cli.identify.main`)."""
 import sys
 
 if __name__ == "__main__":
-    from drape.identification.cli import main
+    # under the guard: importing drape.identify loads no command line
+    from drape.cli.identify import main
 
     sys.exit(main())

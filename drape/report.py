@@ -1,7 +1,8 @@
-"""``python -m drape.report``: the ``drape report`` command (:func:`drape.batch.report.main`)."""
+"""``python -m drape.report``: the ``drape report`` command (:func:`drape.cli.report.main`)."""
 import sys
 
 if __name__ == "__main__":
-    from drape.batch.report import main
+    # under the guard: importing drape.report loads no command line
+    from drape.cli.report import main
 
     sys.exit(main())

@@ -1,7 +1,8 @@
-"""``python -m drape.sweep``: the ``drape sweep`` command (:func:`drape.batch.sweep_cli.main`)."""
+"""``python -m drape.sweep``: the ``drape sweep`` command (:func:`drape.cli.sweep.main`)."""
 import sys
 
 if __name__ == "__main__":
-    from drape.batch.sweep_cli import main
+    # under the guard: importing drape.sweep loads no command line
+    from drape.cli.sweep import main
 
     sys.exit(main())

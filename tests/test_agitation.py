@@ -120,14 +120,14 @@ def test_agitation_starts_when_the_other_loads_stop_and_ends_the_loading():
 def test_check_and_summary_state_the_shaking(tmp_path, capsys, monkeypatch, tiny_cusick):
     """``--check`` prints the burst, summary.json records it; the stroke is the support's
     peak-to-peak travel, here integrated twice from the acceleration on a fine grid."""
-    from drape.run import runner
     from drape.case.case import load_case
+    from drape.cli.run import main as run
     from drape.run.runner import run_case
 
     wool = Path(__file__).parents[1] / "cases" / "validation" / "wool_tropical.toml"
     monkeypatch.chdir(tmp_path)
     shake = ["--set", "load.agitation.acceleration=0.3"]
-    assert runner.main([str(wool), "--check", *shake]) == 0
+    assert run([str(wool), "--check", *shake]) == 0
     t = np.linspace(0.0, 1.5, 30001)
     a = 0.3 * G0 * np.sin(4 * np.pi * t) * np.sin(np.pi * t / 1.5) ** 2
     z = cumulative_trapezoid(cumulative_trapezoid(a, t, initial=0.0), t, initial=0.0)

@@ -14,6 +14,7 @@ import meshio
 import numpy as np
 import pytest
 
+from drape.cli import run as run_cli
 from drape.run import runner
 from drape.case.case import load_case
 from drape.run.checkpoint import CHECKPOINT, read_checkpoint
@@ -213,5 +214,5 @@ def test_resume_of_a_completed_run_runs_nothing(tmp_path, uninterrupted):
     out = tmp_path / "done"
     shutil.copytree(uninterrupted, out)
     before = (out / "history.csv").stat().st_mtime_ns
-    assert runner.main(["--resume", str(out), "--quiet"]) == 0
+    assert run_cli.main(["--resume", str(out), "--quiet"]) == 0
     assert (out / "history.csv").stat().st_mtime_ns == before

@@ -469,11 +469,11 @@ dhat = "1 mm"
 
 
 def run_case_text(tmp_path, bodies, capsys):
-    from drape.run import runner
+    from drape.cli.run import main as run
 
     path = tmp_path / "case.toml"
     path.write_text(CASE + bodies)
-    code = runner.main([str(path), "--out", str(tmp_path / "out"), "--quiet"])
+    code = run([str(path), "--out", str(tmp_path / "out"), "--quiet"])
     return code, capsys.readouterr().err.strip()
 
 

@@ -12,9 +12,9 @@ from drape.analyses.platform_reading import centre_line
 from drape.analyses.scan import read_scan
 from drape.case.case import load_case
 from drape.case.contact_build import body_surface
+from drape.cli.run import main as run
 from drape.run.output import read_pvd
 from drape.run.pictures import contact_bodies
-from drape.run.runner import main as run
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 CONTACT_CASES = ["table_drape", "sphere_drape", "drop_fold", "peirce_platform"]

@@ -141,7 +141,7 @@ def test_force_and_tangent_through_the_interpolation_match_finite_differences():
 def test_case_key_subdivision_is_checked(value, code, message, capsys):
     from pathlib import Path
 
-    from drape.run.runner import main as run
+    from drape.cli.run import main as run
 
     case = Path(__file__).resolve().parents[1] / "cases" / "peirce_platform.toml"
     assert run([str(case), "--check", "--set", f"contact.subdivision={value}"]) == code

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from drape.batch import rows as sweep_rows
-from drape.batch import sweep_cli
+from drape.cli import sweep as sweep_cli
 from drape.case.case import load_case
 from drape.batch.ensemble import SEED_KEY, ensemble_stats, seed_rows, seeded
 

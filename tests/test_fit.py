@@ -7,12 +7,12 @@ import pytest
 
 from constitutive.datasets import DATASET_NAMES, KESLoop, load_dataset
 from constitutive.fit import DEFAULT_ACCEL_TIME, evaluate, fit, fit_loop, thesis_law
-from constitutive.fit.cli import main
 from constitutive.fit.global_fit import _Projector
 from constitutive.fit.variants import _variant, from_kes, to_kes
 from constitutive.friction import FrictionParams
 from constitutive.kes import kes_profile, run_kes
 from constitutive.law import BendingLaw
+from drape.cli.fit import main
 
 T = DEFAULT_ACCEL_TIME
 

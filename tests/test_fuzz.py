@@ -17,8 +17,8 @@ import tomli_w
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from drape.run import cli
-from drape.run import runner
+from drape.cli import common as cli
+from drape.cli import run as run_cli
 from drape.batch import rows as sweep_rows
 from drape.case.case import Case
 
@@ -102,7 +102,7 @@ def check(case: Path, overrides: list[str]) -> tuple[int, str, str, float]:
     start = time.perf_counter()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         try:
-            code = runner.main([str(case), "--check", *sum((["--set", o] for o in overrides), [])])
+            code = run_cli.main([str(case), "--check", *sum((["--set", o] for o in overrides), [])])
         except SystemExit as stop:                     # the option parser's own errors
             code = stop.code
     return code, out.getvalue(), err.getvalue(), time.perf_counter() - start

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from drape.identification.cli import EXIT_OUT_OF_REACH
+from drape.cli.identify import EXIT_OUT_OF_REACH
 from drape.identification.objective import misfit
 from drape.identification.parameters import full_point, kes_values, overrides, parse_box
 from drape.identification.store import Evaluation, append_evaluation, read_evaluations
@@ -166,7 +166,7 @@ def test_material_file_outside_the_kes_range_gives_the_laws_of_the_run(tmp_path)
      "--converged-within = 1.5: must lie in [0, 1)"),
 ])
 def test_bad_input_is_one_line_and_exit_2(argv, words, capsys, tmp_path, monkeypatch):
-    from drape.identification.cli import main
+    from drape.cli.identify import main
 
     monkeypatch.chdir(tmp_path)
     assert main(argv) == 2
@@ -175,7 +175,7 @@ def test_bad_input_is_one_line_and_exit_2(argv, words, capsys, tmp_path, monkeyp
 
 
 def test_base_case_must_be_kes_only_and_the_box_valid(model_scans, capsys, tmp_path):
-    from drape.identification.cli import main
+    from drape.cli.identify import main
 
     scan = str(model_scans[0])
     assert main([scan, "--base", str(ROOT / "cases" / "cusick_fabric1.toml"),

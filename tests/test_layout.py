@@ -1,5 +1,8 @@
 """The package's layout: every module imports on its own, the physics knows no case file, the
-wheel's package list is the source tree's, and the ``drape`` command reaches every tool."""
+material points know no drape, imports sit at module top, the command line lives in drape.cli
+alone, the wheel's package list is the source tree's, and the ``drape`` command reaches every
+tool."""
+import ast
 import json
 import subprocess
 import sys
@@ -103,17 +106,192 @@ def test_bundled_cases_found():
     assert sorted(p.name for p in cases_dir("validation").glob("*.toml"))
 
 
-@pytest.mark.parametrize("command", ["run", "sweep", "report", "validate", "inspect", "measure", "fit"])
+#: Function-level imports of a project module that stay, with the reason each cannot be at the
+#: top: (module, imported module) -> why.
+FUNCTION_LEVEL_IMPORTS = {
+    ("drape.models.plate", "constitutive.material"):
+        "the material package reads material files (pydantic), which the physics must not load",
+}
+#: The command-line tools: ``drape COMMAND`` -> its ``python -m`` module.
+COMMANDS = {"run": "drape.run", "sweep": "drape.sweep", "report": "drape.report",
+            "validate": "drape.validate", "inspect": "drape.inspect", "measure": "drape.measure",
+            "identify": "drape.identify", "fit": "constitutive.fit",
+            "datasets": "constitutive.datasets"}
+VERSION = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
+
+
+def source_files(*prefixes, root=ROOT):
+    """{dotted name: path} of every ``.py`` file of the project under ``prefixes`` (all of it
+    without), ``__main__`` files included."""
+    found = {}
+    for pkg in PACKAGES:
+        for f in sorted((root / pkg).rglob("*.py")):
+            parts = list(f.relative_to(root).with_suffix("").parts)
+            name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+            if not prefixes or under(name, *prefixes):
+                found[name] = f
+    return found
+
+
+def under(module: str, *prefixes) -> bool:
+    """Whether ``module`` is one of ``prefixes`` or inside one."""
+    return any(module == p or module.startswith(p + ".") for p in prefixes)
+
+
+def _is_main_guard(node) -> bool:
+    """``if __name__ == "__main__":``"""
+    test = node.test if isinstance(node, ast.If) else None
+    return (isinstance(test, ast.Compare) and isinstance(test.left, ast.Name)
+            and test.left.id == "__name__" and len(test.comparators) == 1
+            and isinstance(test.comparators[0], ast.Constant)
+            and test.comparators[0].value == "__main__")
+
+
+def imports(path, package: str):
+    """(imported module, inside a function, under the ``__main__`` guard) of every import
+    statement of ``path``, a module of ``package`` (``from x import y`` counts as ``x``; a
+    relative import is resolved)."""
+    found = []
+
+    def visit(node, in_function, in_guard):
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, ast.Import):
+                found.extend((a.name, in_function, in_guard) for a in child.names)
+            elif isinstance(child, ast.ImportFrom):
+                parts = package.split(".")[:len(package.split(".")) + 1 - child.level]
+                module = child.module if not child.level else ".".join(
+                    parts + ([child.module] if child.module else []))
+                found.append((module, in_function, in_guard))
+            visit(child, in_function or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef,
+                                                           ast.Lambda)),
+                  in_guard or _is_main_guard(child))
+
+    visit(ast.parse(path.read_text()), False, False)
+    return found
+
+
+def project_imports():
+    """{dotted name: imports(path)} of every file of the project."""
+    return {name: imports(path, ".".join(path.relative_to(ROOT).parts[:-1]))
+            for name, path in source_files().items()}
+
+
+def test_the_import_reader_sees_every_kind_of_import(tmp_path):
+    path = tmp_path / "mod.py"
+    path.write_text("import argparse\nfrom . import sibling\nfrom ..up import x\n"
+                    "def f():\n    from drape.case import case\n"
+                    "if __name__ == '__main__':\n    import drape.cli\n")
+    assert imports(path, "pkg.sub") == [("argparse", False, False), ("pkg.sub", False, False),
+                                         ("pkg.up", False, False), ("drape.case", True, False),
+                                         ("drape.cli", False, True)]
+
+
+def test_no_argparse_outside_the_command_line():
+    """Options are read in one place, drape.cli; the layers below take plain arguments."""
+    found = project_imports()
+    assert "drape.cli.run" in found and any(m == "argparse" for m, _, _ in found["drape.cli.run"])
+    bad = [name for name, names in found.items() if not under(name, "drape.cli")
+           and any(under(m, "argparse") for m, _, _ in names)]
+    assert not bad, f"argparse outside drape.cli: {bad}"
+
+
+def test_imports_of_project_modules_are_at_module_top():
+    """An import inside a function hides a dependency (and an import cycle): only the listed
+    ones, each with its reason, stay there."""
+    found = {(name, m) for name, names in project_imports().items()
+             for m, in_function, _ in names if in_function and under(m, *PACKAGES)}
+    assert all(FUNCTION_LEVEL_IMPORTS.values())
+    assert found == set(FUNCTION_LEVEL_IMPORTS), (
+        f"not listed: {sorted(found - set(FUNCTION_LEVEL_IMPORTS))}; "
+        f"listed but gone: {sorted(set(FUNCTION_LEVEL_IMPORTS) - found)}")
+
+
+def test_material_points_know_no_drape():
+    """constitutive lies below drape. Its ``__main__`` modules are exempt: they are the entry
+    points ``python -m constitutive.fit`` and ``python -m constitutive.datasets``, which hand
+    the command line to drape.cli, where every tool's options are read."""
+    found = {name: names for name, names in project_imports().items()
+             if under(name, "constitutive") and not name.endswith(".__main__")}
+    assert len(found) > 20
+    bad = sorted({(name, m) for name, names in found.items() for m, _, _ in names
+                  if under(m, "drape")})
+    assert not bad
+
+
+def test_only_entry_points_import_the_command_line():
+    """drape.cli is the top layer: nothing below imports it but the entry points (a
+    ``__main__`` module, or code under ``if __name__ == "__main__":``)."""
+    bad = sorted({(name, m) for name, names in project_imports().items()
+                  if not under(name, "drape.cli") and not name.endswith("__main__")
+                  for m, _, guarded in names if under(m, "drape.cli") and not guarded})
+    assert not bad
+
+
+def test_entry_points_only_hand_over_to_the_command_line():
+    """``python -m drape.<tool>`` and the ``__main__`` modules hold no logic: each imports its
+    tool's ``main`` from drape.cli and exits with what it returns."""
+    shims = {"drape.__main__": "drape.cli", "drape.run.__main__": "drape.cli.run",
+             "constitutive.fit.__main__": "drape.cli.fit",
+             "constitutive.datasets.__main__": "drape.cli.datasets",
+             **{f"drape.{tool}": f"drape.cli.{tool}"
+                for tool in ("sweep", "measure", "validate", "report", "inspect", "identify")}}
+    files, found = source_files(), project_imports()
+    for name, cli in shims.items():
+        assert {m for m, _, _ in found[name]} == {"sys", cli}, name
+        calls = [ast.unparse(n) for n in ast.walk(ast.parse(files[name].read_text()))
+                 if isinstance(n, ast.Call)]
+        assert calls[0] == "sys.exit(main())" and len(calls) == 2, name
+
+
+def test_the_source_trees_version_is_the_distributions():
+    import drape
+
+    assert drape.__version__ == VERSION
+
+
+@pytest.mark.parametrize("command", sorted(COMMANDS))
 def test_drape_command_delegates_to_the_tool(command, capsys):
-    from drape.commands import main
+    from drape.cli import main
 
     with pytest.raises(SystemExit) as stop:
         main([command, "--help"])
     assert stop.value.code == 0
-    assert "usage:" in capsys.readouterr().out
+    assert capsys.readouterr().out.startswith(f"usage: python -m {COMMANDS[command]} ")
 
 
-@pytest.mark.parametrize("module", ["drape.run", "drape.sweep", "constitutive.fit", "drape"])
+def test_drape_lists_every_command():
+    from drape.cli import COMMANDS as listed
+
+    assert set(listed) == set(COMMANDS)
+
+
+@pytest.mark.parametrize("argv, code, out, err", [
+    (["--help"], 0, "usage: drape COMMAND [ARGS...]\n", ""),
+    (["-h"], 0, "usage: drape COMMAND [ARGS...]\n", ""),
+    (["--version"], 0, f"drape {VERSION}\n", ""),
+    (["nonsense"], 2, "", "error: unknown command 'nonsense' (see drape --help)\n"),
+    ([], 2, "", "usage: drape COMMAND [ARGS...]\n"),
+])
+def test_drape_alone_answers_help_version_and_errors(argv, code, out, err, capsys):
+    from drape.cli import main
+
+    assert main(argv) == code
+    printed = capsys.readouterr()
+    assert printed.out.startswith(out) and printed.err.startswith(err)
+    assert bool(printed.out) == bool(out) and bool(printed.err) == bool(err)
+
+
+def test_drape_help_loads_no_tool():
+    """``drape --help`` answers at once: no tool's module, no solver, no Dask."""
+    code = ("import json, sys; from drape.cli import main; main(['--help']); "
+            "print(json.dumps(sorted(sys.modules)), file=sys.stderr)")
+    out = run_python(code)
+    assert out.returncode == 0, out.stderr
+    loaded = json.loads(out.stderr)
+    assert not [m for m in loaded if under(m, "drape.run", "drape.cli.run", "distributed", "scipy")]
+
+
+@pytest.mark.parametrize("module", ["drape", *COMMANDS.values()])
 def test_python_m_entry_points(module):
     out = subprocess.run([sys.executable, "-m", module, "--help"], cwd=ROOT, capture_output=True,
                          text=True, timeout=120)

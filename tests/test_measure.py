@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 import shapely
 
-from drape.analyses.scan_measure import length_m, main, measure_scan, measure_surface
+from drape.analyses.scan_measure import length_m, measure_scan, measure_surface
 from drape.analyses.outline import outline_harmonics, outline_irregularity
 from drape.analyses.scan import ScanError, find_disc_top
+from drape.cli.measure import main
 from drape.analyses.scan_set import describe_scans, fabric_tables, face_pairs, format_tables, write_tables
 from drape.identification.specimen_split import judge_scans_alone
 

@@ -11,7 +11,7 @@ import pytest
 from constitutive.material import load_material
 from constitutive.units import G0
 from drape.analyses.bending_length import bending_length
-from drape.run.runner import main as run
+from drape.cli.run import main as run
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 ELASTIC = ["--set", "material.friction=false", "--set", "material.d=0"]

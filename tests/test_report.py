@@ -14,7 +14,8 @@ import pytest
 from drape.batch import report
 
 from drape.batch import rows as sweep_rows
-from drape.batch import sweep_cli
+from drape.cli import report as report_cli
+from drape.cli import sweep as sweep_cli
 from drape.run.output import OutputWriter
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -109,7 +110,7 @@ def test_sweep_report_lists_every_run_with_top_view_and_pvd(sweep_dir):
 
 def test_run_report_shows_the_summary_and_links_its_files(sweep_dir):
     run = sweep_dir / "runs" / "limp"
-    assert report.main([str(run)]) == 0
+    assert report_cli.main([str(run)]) == 0
     page = check_self_contained(run / "report.html")
     summary = json.loads((run / "summary.json").read_text())
     facts = {r[0]: r[1] for r in page.rows if len(r) == 2}
@@ -121,7 +122,7 @@ def test_run_report_shows_the_summary_and_links_its_files(sweep_dir):
 
 
 def test_report_of_a_folder_without_results_is_an_error(tmp_path, capsys):
-    assert report.main([str(tmp_path)]) == 2
+    assert report_cli.main([str(tmp_path)]) == 2
     assert "neither a sweep" in capsys.readouterr().err
 
 

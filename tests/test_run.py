@@ -16,6 +16,7 @@ import scipy.sparse as sp
 
 from drape.models.protocol import Evaluation
 from drape import analyses
+from drape.cli import run as run_cli
 from drape.run import runner
 from drape.run.settling import out_of_balance
 from drape.case.case import CaseError, apply_overrides, load_case, parse_case
@@ -141,7 +142,7 @@ def test_failed_run_keeps_every_converged_step_with_a_readable_pvd(tmp_path):
 def test_inspect_draws_the_stopped_run_and_its_history(tmp_path, capsys):
     from PIL import Image
 
-    from drape.run import pictures as inspect
+    from drape.cli import inspect
 
     case = small_case(**{"solver.max_cuts": 0})
     runner.run_case(case, tmp_path, quiet=True, parts=fake_parts(case, fail_after=0.025))
@@ -162,7 +163,7 @@ def test_cli_failure_prints_reason_and_exits_3(tmp_path, monkeypatch, capsys):
                          'width = 0.02\nnx = 3\n[material]\nname = "fabric1"\n'
                          '[solver]\ndt = 0.01\nt_end = 0.1\n')
     monkeypatch.setattr(runner, "build", lambda case: fake_parts(case, fail_after=0.015))
-    code = runner.main([str(case_file), "--out", str(tmp_path / "o"), "--quiet",
+    code = run_cli.main([str(case_file), "--out", str(tmp_path / "o"), "--quiet",
                         "--set", "solver.max_cuts=1"])
     err = capsys.readouterr().err
     assert code == 3 and len(err.splitlines()) == 1
@@ -176,19 +177,19 @@ def test_cli_bad_case_exits_2_with_one_line_naming_the_key(tmp_path, capsys):
     case_file.write_text('[case]\nname = "x"\n[mesh]\nkind = "strip"\nlength = 0.05\n'
                          'width = 0.02\nnx = 3\n[material]\nname = "fabric1"\n'
                          '[model]\ndampin = {alpha = 1.0}\n[solver]\ndt = 0.01\nt_end = 0.1\n')
-    assert runner.main([str(case_file), "--out", str(tmp_path / "o")]) == 2
+    assert run_cli.main([str(case_file), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert err == [f"error: in {case_file}: unknown key 'model.dampin' (did you mean 'damping'?)"]
 
 
 def test_check_builds_without_running(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    assert runner.main([str(CASES / "kes_strip.toml"), "--check"]) == 0
+    assert run_cli.main([str(CASES / "kes_strip.toml"), "--check"]) == 0
     out = capsys.readouterr().out
     assert out.startswith("kes_strip: OK — KirchhoffPlate, ") and "analysis kes" in out
     assert "membrane taken at" not in out               # a plate has no membrane
     assert not any(tmp_path.iterdir())                 # nothing written
-    assert runner.main([str(CASES / "validation" / "wool_tropical.toml"), "--check"]) == 0
+    assert run_cli.main([str(CASES / "validation" / "wool_tropical.toml"), "--check"]) == 0
     from constitutive.tensile import DEFAULT_TENSILE
     from drape.analyses.drape_coefficient import skirt_tension
 
@@ -201,7 +202,7 @@ def test_check_builds_without_running(tmp_path, capsys, monkeypatch):
 
 
 def test_cli_missing_boundary_exits_2_listing_the_mesh_boundaries(tmp_path, capsys):
-    code = runner.main([str(CASES / "cantilever.toml"), "--out", str(tmp_path / "o"), "--quiet",
+    code = run_cli.main([str(CASES / "cantilever.toml"), "--out", str(tmp_path / "o"), "--quiet",
                         "--set", "model.supports={clampd='clamped'}"])
     assert code == 2
     err = capsys.readouterr().err.strip().splitlines()
@@ -337,10 +338,10 @@ def test_analysis_registry_probe_and_finish_reach_history_and_summary(tmp_path):
 
 def test_help_and_help_case(capsys):
     with pytest.raises(SystemExit) as info:
-        runner.main(["--help"])
+        run_cli.main(["--help"])
     assert info.value.code == 0
     assert "--set KEY=VALUE" in capsys.readouterr().out
-    assert runner.main(["--help-case"]) == 0
+    assert run_cli.main(["--help-case"]) == 0
     out = capsys.readouterr().out
     assert "[solver]" in out and "out_of_balance" in out
 
@@ -350,7 +351,7 @@ def test_kes_strip_end_to_end_reports_B_close_to_the_material_driver(tmp_path):
     from constitutive.kes import kes_profile, kes_values, run_kes
 
     out = tmp_path / "kes"
-    code = runner.main([str(CASES / "kes_strip.toml"), "--out", str(out), "--quiet",
+    code = run_cli.main([str(CASES / "kes_strip.toml"), "--out", str(out), "--quiet",
                         "--set", "solver.dt=0.1"])
     assert code == 0
     summary = json.loads((out / "summary.json").read_text())
@@ -375,7 +376,7 @@ def test_real_plate_that_cannot_converge_stops_cleanly(tmp_path, capsys):
     # friction makes the loaded plate nonlinear: one Newton iteration cannot also pass the
     # increment test, so the first step fails and nothing after step 0 may be on disk
     out = tmp_path / "fail"
-    code = runner.main([str(CASES / "cantilever.toml"), "--out", str(out), "--quiet",
+    code = run_cli.main([str(CASES / "cantilever.toml"), "--out", str(out), "--quiet",
                         "--set", "model.kinematics=small", "--set", "solver.max_iter=1",
                         "--set", "solver.max_cuts=0"])
     assert code == 3
@@ -390,7 +391,7 @@ def test_real_plate_that_cannot_converge_stops_cleanly(tmp_path, capsys):
 
 def test_cantilever_runs_short_from_the_command_line(tmp_path):
     out = tmp_path / "cant"
-    code = runner.main([str(CASES / "cantilever.toml"), "--out", str(out), "--quiet",
+    code = run_cli.main([str(CASES / "cantilever.toml"), "--out", str(out), "--quiet",
                         "--set", "solver.t_end=0.02", "--set", "solver.dt=0.01",
                         "--set", "stop.after=10.0", "--set", "case.analysis='none'"])
     assert code == 0

@@ -13,7 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from drape.run import cli
+from drape.cli import common as cli
+from drape.cli import run as run_cli
 from drape.run import runner
 from drape.run.checkpoint import CHECKPOINT
 from drape.run.lock import folder_lock
@@ -43,7 +44,7 @@ def one_error(capsys) -> str:
 def finished(tmp_path_factory) -> Path:
     """A tiny cantilever run that completed."""
     out = tmp_path_factory.mktemp("finished")
-    assert runner.main([str(CANTILEVER), "--out", str(out), "--quiet", *TINY]) == 0
+    assert run_cli.main([str(CANTILEVER), "--out", str(out), "--quiet", *TINY]) == 0
     return out
 
 
@@ -71,7 +72,7 @@ def test_a_second_run_into_a_folder_in_use_is_refused_and_mixes_nothing(tmp_path
         while not (out / "history.csv").exists() and time.monotonic() < deadline:
             time.sleep(0.05)
         assert first.poll() is None, first.communicate()
-        code = runner.main([str(CANTILEVER), "--out", str(out), "--quiet", "--set",
+        code = run_cli.main([str(CANTILEVER), "--out", str(out), "--quiet", "--set",
                             "solver.t_end=0.1", *TINY[:4]])
         line = one_error(capsys)
         _, err = first.communicate(timeout=300)
@@ -90,7 +91,7 @@ def test_a_second_run_into_a_folder_in_use_is_refused_and_mixes_nothing(tmp_path
 def test_a_resume_into_a_folder_in_use_is_refused(finished, tmp_path, capsys):
     out = stopped_copy(finished, tmp_path)
     with folder_lock(out):
-        assert runner.main(["--resume", str(out), "--quiet"]) == 4
+        assert run_cli.main(["--resume", str(out), "--quiet"]) == 4
     assert "is in use by another run" in one_error(capsys)
 
 
@@ -103,7 +104,7 @@ def test_a_new_run_does_not_leave_an_earlier_runs_summary_behind(tmp_path, monke
         raise RuntimeError("killed while building")
 
     monkeypatch.setattr(runner, "build", killed)
-    assert runner.main([str(CANTILEVER), "--out", str(out), "--quiet", *TINY]) == 1
+    assert run_cli.main([str(CANTILEVER), "--out", str(out), "--quiet", *TINY]) == 1
     assert not (out / "summary.json").exists()
 
 
@@ -117,7 +118,7 @@ def test_resume_from_a_damaged_checkpoint_is_one_line(finished, tmp_path, capsys
     elif content:
         content = data[: len(data) // 2]
     (out / CHECKPOINT).write_bytes(content)
-    assert runner.main(["--resume", str(out), "--quiet"]) == cli.EXIT_BAD_INPUT
+    assert run_cli.main(["--resume", str(out), "--quiet"]) == cli.EXIT_BAD_INPUT
     line = one_error(capsys)
     assert "is not a readable checkpoint" in line and "pickle" not in line
 
@@ -125,7 +126,7 @@ def test_resume_from_a_damaged_checkpoint_is_one_line(finished, tmp_path, capsys
 # --------------------------------------------------------------------------- output folders
 def test_an_output_folder_under_a_file_is_an_io_error(tmp_path, capsys):
     (tmp_path / "file").write_text("x")
-    code = runner.main([str(CANTILEVER), "--out", str(tmp_path / "file" / "o"), "--quiet", *TINY])
+    code = run_cli.main([str(CANTILEVER), "--out", str(tmp_path / "file" / "o"), "--quiet", *TINY])
     assert code == cli.EXIT_IO
     assert one_error(capsys) == f"error: Not a directory: '{tmp_path / 'file' / 'o'}'"
 
@@ -139,7 +140,7 @@ def test_a_read_only_output_folder_is_an_io_error(tmp_path, capsys, monkeypatch)
         return real_mkdir(self, *args, **kwargs)
 
     monkeypatch.setattr(Path, "mkdir", read_only)
-    code = runner.main([str(CANTILEVER), "--out", str(tmp_path / "ro" / "o"), "--quiet", *TINY])
+    code = run_cli.main([str(CANTILEVER), "--out", str(tmp_path / "ro" / "o"), "--quiet", *TINY])
     assert code == cli.EXIT_IO
     assert one_error(capsys) == f"error: Read-only file system: '{tmp_path / 'ro' / 'o'}'"
 
@@ -158,7 +159,7 @@ def test_a_full_disk_during_the_run_is_an_io_error_with_the_reason_on_disk(tmp_p
 
     monkeypatch.setattr(drape.run.checkpoint.np, "savez", full)
     out = tmp_path / "o"
-    assert runner.main([str(CANTILEVER), "--out", str(out), "--quiet", *TINY]) == cli.EXIT_IO
+    assert run_cli.main([str(CANTILEVER), "--out", str(out), "--quiet", *TINY]) == cli.EXIT_IO
     assert one_error(capsys) == "error: No space left on device"
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "error" and "No space left" in summary["reason"]
@@ -175,11 +176,11 @@ def test_a_run_stopped_while_its_case_is_built_says_so_and_resumes(tmp_path, cap
     out = tmp_path / "o"
     with monkeypatch.context() as patch:
         patch.setattr(runner, "build", stopped)
-        assert runner.main([str(CANTILEVER), "--out", str(out), "--quiet", *TINY]) == code
+        assert run_cli.main([str(CANTILEVER), "--out", str(out), "--quiet", *TINY]) == code
     assert f"{status} at t = 0 s" in one_error(capsys)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == status and "while the case was being built" in summary["reason"]
-    assert runner.main(["--resume", str(out), "--quiet"]) == 0      # from the beginning
+    assert run_cli.main(["--resume", str(out), "--quiet"]) == 0      # from the beginning
     assert json.loads((out / "summary.json").read_text())["status"] == "completed"
     assert "--set solver.t_end=0.02" in (out / "case.resolved.toml").read_text()
 
@@ -188,21 +189,21 @@ def test_ctrl_c_while_the_case_is_read_is_one_line(capsys, monkeypatch):
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(runner, "load_case", interrupted)
-    assert runner.main([str(CANTILEVER), "--check"]) == 130
+    monkeypatch.setattr(run_cli, "load_case", interrupted)
+    assert run_cli.main([str(CANTILEVER), "--check"]) == 130
     assert one_error(capsys) == "interrupted"
 
 
 # --------------------------------------------------------------------------- bad input
 def test_a_folder_given_as_the_case_is_bad_input(capsys):
-    assert runner.main([str(ROOT / "cases"), "--check"]) == cli.EXIT_BAD_INPUT
+    assert run_cli.main([str(ROOT / "cases"), "--check"]) == cli.EXIT_BAD_INPUT
     assert "is a folder, not a case file" in one_error(capsys)
 
 
 def test_a_binary_case_file_is_bad_input_in_plain_words(tmp_path, capsys):
     case = tmp_path / "c.toml"
     case.write_bytes(bytes(range(256)))
-    assert runner.main([str(case), "--check"]) == cli.EXIT_BAD_INPUT
+    assert run_cli.main([str(case), "--check"]) == cli.EXIT_BAD_INPUT
     line = one_error(capsys)
     assert "not a text file" in line and "codec" not in line
 
@@ -217,7 +218,7 @@ def test_a_mesh_path_that_is_no_mesh_names_mesh_path(tmp_path, capsys, content):
         mesh.write_bytes(content)
     else:
         mesh.write_text(content)
-    code = runner.main([str(CANTILEVER), "--check", "--set", "mesh={kind='file', path='%s'}" % mesh])
+    code = run_cli.main([str(CANTILEVER), "--check", "--set", "mesh={kind='file', path='%s'}" % mesh])
     assert code == cli.EXIT_BAD_INPUT
     line = one_error(capsys)
     assert f"mesh.path = '{mesh}': {mesh.name}: not a mesh meshio can read (" in line
@@ -238,28 +239,28 @@ def test_a_case_name_that_would_leave_the_output_folder_is_refused(tmp_path, cap
     monkeypatch.chdir(tmp_path)
     (tmp_path / "keep.txt").write_text("mine")
     for name in ("..", ".", "a/b", ""):
-        assert runner.main([str(CANTILEVER), "--quiet", "--set", f'case.name="{name}"',
+        assert run_cli.main([str(CANTILEVER), "--quiet", "--set", f'case.name="{name}"',
                             *TINY]) == cli.EXIT_BAD_INPUT
         assert "case.name" in one_error(capsys)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["keep.txt"]
 
 
 def test_an_infinite_length_names_the_case_key(capsys):
-    assert runner.main([str(CANTILEVER), "--check", "--set", "mesh.length=inf"]) == 2
+    assert run_cli.main([str(CANTILEVER), "--check", "--set", "mesh.length=inf"]) == 2
     line = one_error(capsys)
     assert "mesh.length = inf" in line and "'lx'" not in line
 
 
 def test_an_absurd_mesh_is_refused_before_it_is_built(capsys):
     start = time.perf_counter()
-    assert runner.main([str(CANTILEVER), "--check", "--set", "mesh.nx=100000000000"]) == 2
+    assert run_cli.main([str(CANTILEVER), "--check", "--set", "mesh.nx=100000000000"]) == 2
     assert "triangles asked for" in one_error(capsys)
     assert time.perf_counter() - start < 5
 
 
 def test_an_unknown_option_is_one_line_and_bad_input(capsys):
     with pytest.raises(SystemExit) as stop:
-        runner.main([str(CANTILEVER), "--chek"])
+        run_cli.main([str(CANTILEVER), "--chek"])
     assert stop.value.code == cli.EXIT_BAD_INPUT
     assert "unrecognized arguments: --chek" in one_error(capsys)
 
@@ -267,7 +268,7 @@ def test_an_unknown_option_is_one_line_and_bad_input(capsys):
 # --------------------------------------------------------------------------- what the user sees
 def test_help_prints_the_exit_code_table(capsys):
     with pytest.raises(SystemExit):
-        runner.main(["--help"])
+        run_cli.main(["--help"])
     out = capsys.readouterr().out
     assert cli.EXIT_CODES in out
     for code in ("  2    bad input", "  3    the solver did not converge", "  4    I/O error",
@@ -283,12 +284,12 @@ def test_a_cold_kernel_cache_is_announced(capsys, monkeypatch):
     import drape.fem.compiled
 
     monkeypatch.setattr(drape.fem.compiled, "cache_is_cold", lambda: True)
-    assert runner.main([str(CANTILEVER), "--check", *TINY]) == 0
+    assert run_cli.main([str(CANTILEVER), "--check", *TINY]) == 0
     assert capsys.readouterr().err.startswith("compiling the shell's kernels (first run only")
-    assert runner.main([str(CANTILEVER), "--check", "--quiet", *TINY]) == 0
+    assert run_cli.main([str(CANTILEVER), "--check", "--quiet", *TINY]) == 0
     assert capsys.readouterr().err == ""
     monkeypatch.setattr(drape.fem.compiled, "cache_is_cold", lambda: False)
-    assert runner.main([str(CANTILEVER), "--check", *TINY]) == 0
+    assert run_cli.main([str(CANTILEVER), "--check", *TINY]) == 0
     assert capsys.readouterr().err == ""
 
 

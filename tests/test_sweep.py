@@ -13,7 +13,8 @@ import pytest
 
 from drape.run import runner
 from drape.batch import rows as sweep_rows
-from drape.batch import sweep, sweep_cli
+from drape.batch import sweep
+from drape.cli import sweep as sweep_cli
 from drape.case.case import load_case
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -14,7 +14,8 @@ from pathlib import Path
 import pytest
 
 from drape.batch import rows as sweep_rows
-from drape.batch import sweep, sweep_cli
+from drape.batch import sweep
+from drape.cli import sweep as sweep_cli
 from drape.run.lock import folder_lock
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 from drape.batch import validation_set as validate
+from drape.cli import validate as validate_cli
 from drape.case.case import load_case
 from drape.batch.rows import read_results, read_table
 
@@ -52,7 +53,7 @@ def test_the_cotton_anisotropy_table_splits_the_sheet_about_the_mean_each_row_na
 
 def test_validate_runs_every_case_as_an_ensemble_and_compares(tmp_path, capsys, tiny_cusick):
     out = tmp_path / "validation"
-    code = validate.main([str(CASES), "--seeds", "2", "--out", str(out), "--workers", "1",
+    code = validate_cli.main([str(CASES), "--seeds", "2", "--out", str(out), "--workers", "1",
                           "--quiet", *sum((["--set", o] for o in tiny_cusick), [])])
     assert code == 0
     printed = capsys.readouterr().out.splitlines()
@@ -81,10 +82,10 @@ def test_validate_runs_every_case_as_an_ensemble_and_compares(tmp_path, capsys, 
 
 
 def test_a_folder_without_validation_cases_is_refused(tmp_path, capsys):
-    assert validate.main([str(tmp_path), "--out", str(tmp_path / "o")]) == 2
+    assert validate_cli.main([str(tmp_path), "--out", str(tmp_path / "o")]) == 2
     assert "no case files" in capsys.readouterr().err
     shutil.copy(ROOT / "cases" / "cusick_kes.toml", tmp_path / "plain.toml")
-    assert validate.main([str(tmp_path), "--out", str(tmp_path / "o")]) == 2
+    assert validate_cli.main([str(tmp_path), "--out", str(tmp_path / "o")]) == 2
     assert "plain.toml: a validation case needs case.analysis = 'cusick' and a [measured] table" \
         in capsys.readouterr().err
 

@@ -68,8 +68,8 @@ thesis
     The thesis's path polynomials and the loop containers (:class:`KESLoop`).
 kes_csv
     CSV exports of a KES-FB instrument: :func:`load_kes_csv`, :func:`write_kes_csv`.
-cli
-    ``python -m constitutive.datasets``.
+example
+    A simulated example export (``python -m constitutive.datasets example``).
 """
 from constitutive.datasets.kes_csv import (
                                            detect_branches,

@@ -1,6 +1,6 @@
-"""``python -m constitutive.datasets``: :func:`constitutive.datasets.cli.main`."""
+"""``python -m constitutive.datasets``: the ``drape datasets`` command (:func:`drape.cli.datasets.main`)."""
 import sys
 
-from constitutive.datasets.cli import main
+from drape.cli.datasets import main
 
 sys.exit(main())

@@ -98,8 +98,8 @@ residual
     The residual 4.17 and the model moment along a loop.
 global_fit
     :func:`fit`, :func:`fit_loop`, :class:`FitResult`: the variable-projection global fit.
-cli
-    ``python -m constitutive.fit`` (``drape fit``).
+tables
+    The printed tables: one fit's parameters, every thesis cell (``python -m constitutive.fit``).
 plots
     The figure of a fitted loop.
 """

@@ -1,6 +1,6 @@
-"""``python -m constitutive.fit``: :func:`constitutive.fit.cli.main`."""
+"""``python -m constitutive.fit``: the ``drape fit`` command (:func:`drape.cli.fit.main`)."""
 import sys
 
-from constitutive.fit.cli import main
+from drape.cli.fit import main
 
 sys.exit(main())

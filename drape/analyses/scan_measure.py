@@ -1,6 +1,7 @@
 """Read a measured (scanned) Cusick drape like a simulated one.
 
-``python -m drape.measure SCAN [SCAN ...] [--specimen 30cm] [--disc 18cm] [--out DIR] [--json]``
+``python -m drape.measure SCAN [SCAN ...]`` (:mod:`drape.cli.measure`) measures scans with
+:func:`measure_scan` and prints :func:`format_table`.
 
 A scan (any surface mesh meshio reads, :mod:`drape.analyses.scan`) goes through the very analysis a
 simulated drape goes through, :func:`drape.analyses.drape_coefficient.drape_analysis` with its default node
@@ -15,9 +16,7 @@ whatever their orientation on the disc.
 """
 from __future__ import annotations
 
-import argparse
 import json
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,8 +26,8 @@ from constitutive.units import ureg
 from drape.analyses.drape_coefficient import CusickError, CusickResult, drape_analysis, plot_top_view
 from drape.analyses.scan import ScanError, check_extent, check_finite, check_units, find_disc_top, read_scan
 
-__all__ = ["SPECIMEN_DIAMETER", "DISC_DIAMETER", "Measurement", "length_m", "measure_surface",
-           "measure_scan", "format_table", "main"]
+__all__ = ["SPECIMEN_DIAMETER", "DISC_DIAMETER", "TOP_BAND", "Measurement", "length_m",
+           "measure_surface", "measure_scan", "format_table", "unique_names", "write_outputs"]
 
 #: BS 5058 set-up: a 30 cm specimen on an 18 cm disc (m).
 SPECIMEN_DIAMETER = 0.30
@@ -186,7 +185,12 @@ def format_table(measurements) -> str:
     return "\n".join(lines)
 
 
-def _unique_names(paths) -> list[str]:
+def unique_names(paths) -> list[str]:
+    """A name per scan: its file's stem, numbered from the second scan of the same stem on.
+
+    >>> unique_names(["a/s1.ply", "b/s1.ply", "s2.obj"])
+    ['s1', 's1-2', 's2']
+    """
     names, seen = [], {}
     for p in paths:
         stem = Path(p).stem
@@ -195,97 +199,10 @@ def _unique_names(paths) -> list[str]:
     return names
 
 
-def _arg_length(text: str) -> float:
-    try:
-        return length_m(text)
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(str(exc)) from None
-
-
-def _arg_centre(text: str) -> tuple:
-    parts = text.split(",")
-    if len(parts) != 2:
-        raise argparse.ArgumentTypeError(f"{text!r}: give the centre as x,y (e.g. 0.002,-0.001)")
-    try:
-        return tuple(length_m(p, positive=False) for p in parts)
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(str(exc)) from None
-
-
-def _arg_scale(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = float("nan")
-    if not (np.isfinite(value) and value > 0.0):
-        raise argparse.ArgumentTypeError(f"{text!r}: the scale must be a positive number")
-    return value
-
-
-def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
-        prog="python -m drape.measure",
-        description="Read scanned Cusick drapes like simulated ones: drape coefficient, nodes "
-                    "and their angles, fold depths, the hem's outline r(theta) and its harmonic "
-                    "amplitudes a_k (independent of the drape's orientation), and a top view. "
-                    "A scan is any surface mesh meshio reads (PLY, OBJ, STL, VTU, ...) in "
-                    "metres, the disc's top near z = 0 and the skirt hanging towards -z; the "
-                    "disc centre is found from the flat top unless --centre gives it.",
-        epilog="Exit status: 0, or 2 when a scan is missing, unreadable, not a surface, not "
-               "finite, not in metres, has no disc top or is larger than the specimen (one "
-               "line on stderr per such scan; the others are still measured).")
-    p.add_argument("scans", nargs="+", metavar="SCAN", help="surface mesh files")
-    p.add_argument("--specimen", type=_arg_length, default=SPECIMEN_DIAMETER, metavar="LENGTH",
-                   help="specimen diameter, e.g. 30cm, '300 mm', 0.3 (metres); default 30 cm")
-    p.add_argument("--disc", type=_arg_length, default=DISC_DIAMETER, metavar="LENGTH",
-                   help="disc diameter; default 18 cm (BS 5058)")
-    p.add_argument("--centre", type=_arg_centre, default=None, metavar="X,Y",
-                   help="disc centre in metres (or with units, e.g. 2mm,-1mm), instead of the "
-                        "estimate from the flat top; write --centre=-2mm,1mm when x is negative")
-    p.add_argument("--top-band", type=_arg_length, default=TOP_BAND, metavar="LENGTH",
-                   help="height band of the flat disc top the centre is found from; default "
-                        "0.3 mm, widen it for a noisy scan")
-    p.add_argument("--scale", type=_arg_scale, default=1.0, metavar="FACTOR",
-                   help="multiply the coordinates by FACTOR to get metres (0.001 for mm)")
-    p.add_argument("--out", type=Path, default=None, metavar="DIR",
-                   help="write <name>_top.png per scan and measure.json there")
-    p.add_argument("--json", action="store_true",
-                   help="print the full descriptors as JSON instead of the table")
-    return p
-
-
-def _write_outputs(out: Path, measurements, report: dict) -> None:
+def write_outputs(out, measurements, report: dict) -> None:
+    """``<name>_top.png`` of every measurement and ``measure.json`` (``report``) in ``out``."""
+    out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     for m in measurements:
         plot_top_view(m.result, out / f"{m.name}_top.png", title=m.name)
     (out / "measure.json").write_text(json.dumps(report, indent=2))
-
-
-def main(argv=None) -> int:
-    """Command line: measure every scan, print the table (or JSON), write the outputs."""
-    args = _parser().parse_args(argv)
-    if args.specimen <= args.disc:
-        print(f"error: specimen {args.specimen:g} m must be larger than the disc {args.disc:g} m",
-              file=sys.stderr)
-        return 2
-    measurements, failures = [], []
-    for path, name in zip(args.scans, _unique_names(args.scans)):
-        try:
-            measurements.append(measure_scan(path, args.specimen / 2, args.disc / 2, args.centre,
-                                             args.scale, name, args.top_band))
-        except ScanError as exc:
-            print(f"error: {exc}", file=sys.stderr)
-            failures.append({"scan": str(path), "error": str(exc)})
-    report = {"specimen_diameter_m": args.specimen, "disc_diameter_m": args.disc,
-              "scans": [m.descriptors() for m in measurements], "failed": failures}
-    if args.out is not None and measurements:
-        _write_outputs(args.out, measurements, report)
-    if args.json:
-        print(json.dumps(report, indent=2))
-    elif measurements:
-        print(format_table(measurements))
-    return 2 if failures else 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,4 +1,5 @@
-"""A report to open in a browser: ``python -m drape.report OUTDIR`` writes ``OUTDIR/report.html``.
+"""A report to open in a browser: :func:`write_report` writes ``OUTDIR/report.html``
+(``python -m drape.report OUTDIR``, :mod:`drape.cli.report`).
 
 For a sweep folder (``results.csv`` from :mod:`drape.batch.sweep`) the report has the results
 table, the drape coefficient against the bending length c = (B/W)^(1/3) (with the measured
@@ -20,18 +21,16 @@ import html
 import io
 import json
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 
 from drape.batch.rows import RESULT_COLUMNS, read_results
 from drape.run.atomic import atomic_write_text
-from drape.run.cli import EXIT_BAD_INPUT, Parser
 from drape.run.output import read_pvd
 
 __all__ = ["figure_data_uri", "new_figure", "top_view_figure", "draw_top_view", "dc_figure", "history_figure", "sweep_report", "run_report",
-           "write_report", "main"]
+           "write_report"]
 
 _CSS = """
 body { font-family: system-ui, sans-serif; margin: 1.5em; color: #222; }
@@ -324,27 +323,3 @@ def write_report(out_dir) -> Path:
                                 f"(summary.json) folder")
     path = out_dir / "report.html"
     return atomic_write_text(path, text)
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point; returns the exit code (:data:`drape.run.cli.EXIT_CODES`)."""
-    p = Parser(prog="python -m drape.report",
-                                description="Write OUTDIR/report.html for a sweep or a run folder "
-                                            "(self-contained: opens offline).")
-    p.add_argument("out_dir", metavar="OUTDIR", help="a sweep folder or a run folder")
-    args = p.parse_args(argv)
-    try:
-        path = write_report(args.out_dir)
-    except FileNotFoundError as exc:       # a folder that holds neither a sweep nor a run
-        print(f"error: {exc}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    print(path)
-    return 0
-
-
-if __name__ == "__main__":
-    from drape.batch.report import (
-        main as _main,  # the imported module's main: its classes are the ones raised
-    )
-
-    sys.exit(_main())

@@ -31,7 +31,7 @@ resumed gives the same ``results.csv`` as one never stopped.
 
 Statuses: those of :mod:`drape.run.runner` (completed, settled, failed, interrupted, terminated,
 error), ``invalid`` (the row's case does not validate or cannot be built) and ``lost`` (the
-worker running it died). Exit codes (:mod:`drape.run.cli`): 0 every run finished (whatever its
+worker running it died). Exit codes (:mod:`drape.cli.sweep`): 0 every run finished (whatever its
 status), 2 bad input, 4 an I/O error (the folder cannot be written or another sweep writes
 into it, the scheduler cannot be reached), 130 interrupted (Ctrl-C), 143 terminated
 (SIGTERM): finished rows stay in ``results.csv``. The Dask dashboard is off unless
@@ -56,7 +56,7 @@ from drape.case.case import CaseError, dump_case, load_case
 from drape.fem.compiled import limit_threads
 from drape.run.atomic import atomic_write, atomic_write_text
 from drape.run.checkpoint import CHECKPOINT, CheckpointError, read_checkpoint
-from drape.run.cli import describe, one_line
+from drape.run.messages import describe, one_line
 from drape.run.lock import folder_lock
 from drape.run.runner import ResumeError, read_summary, run_case
 

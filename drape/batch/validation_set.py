@@ -1,24 +1,18 @@
 """A validation set: simulated drape against measured drape, side by side.
 
-``python -m drape.validate [DIR] [--seeds N] [--out OUT] [--set KEY=VALUE ...]``
-
-Every case file in ``DIR`` (default ``cases/validation``) is a Cusick case with a
-``[measured]`` table (the real test's drape coefficient and nodes, their source and setup).
-Each runs as a seed ensemble through :mod:`drape.batch.sweep` (``--seeds N``, default 1) into
-``OUT/<case file stem>/`` (``results.csv``, ``ensemble.json``, ``report.html``, the runs);
-``--set`` applies to every case and run. Then the command prints one line per fabric, the
-simulated DC (mean ± sample standard deviation over the seeds) and node count (the most frequent
-count, how many seeds agreed, the mean) beside the measured ones and their differences, and
-writes ``OUT/validation.json`` (the same, with every seed's value) and ``OUT/validation.png``
-(the top view of each fabric, from the first seed giving the most frequent node count, titled
-with its simulated and measured values). ``--resume`` continues a stopped validation.
-
-Exit codes: 0 every case ran (whatever each run's status), 1 bad input, 130 interrupted,
-143 terminated.
+Every case file in a folder (default :data:`DEFAULT_DIR`, ``cases/validation``) is a Cusick
+case with a ``[measured]`` table (the real test's drape coefficient and nodes, their source and
+setup). :func:`run_validation` runs each as a seed ensemble through :mod:`drape.batch.sweep`
+into ``OUT/<case file stem>/`` (``results.csv``, ``ensemble.json``, ``report.html``, the runs)
+and writes ``OUT/validation.json``: the simulated DC (mean ± sample standard deviation over
+the seeds) and node count (the most frequent count, how many seeds agreed, the mean) beside
+the measured ones, with every seed's value. :func:`comparison_table` prints them one line per
+fabric, :func:`validation_figure` draws the top view of each fabric (from the first seed giving
+the most frequent node count). The command line is ``python -m drape.validate``
+(:mod:`drape.cli.validate`).
 """
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from pathlib import Path
@@ -26,16 +20,13 @@ from pathlib import Path
 from constitutive.bundled import cases_dir
 from drape.batch.ensemble import ensembles, seed_rows, write_ensembles
 from drape.batch.report import draw_top_view, write_report
-from drape.batch.rows import SweepError, read_results
+from drape.batch.rows import read_results
 from drape.batch.sweep import run_sweep
-from drape.batch.sweep_cli import add_batch_options
 from drape.case.case import CaseError, load_case
-from drape.run.cli import EXIT_BAD_INPUT, EXIT_IO, describe
 from drape.run.output import read_pvd
-from drape.run.termination import sigterm_raises, stopped
 
-__all__ = ["ValidationSetError", "validation_cases", "run_validation", "comparison_table",
-           "validation_figure", "main"]
+__all__ = ["DEFAULT_DIR", "ValidationSetError", "validation_cases", "run_validation",
+           "comparison_table", "validation_figure"]
 
 DEFAULT_DIR = cases_dir("validation")
 
@@ -147,7 +138,6 @@ def validation_figure(records: list[dict], size: float = 3.6):
     """
     from matplotlib.figure import Figure
 
-
     fig = Figure(figsize=(size * len(records), size + 0.8), layout="constrained")
     for i, r in enumerate(records):
         ax = fig.add_subplot(1, len(records), i + 1)
@@ -162,48 +152,3 @@ def validation_figure(records: list[dict], size: float = 3.6):
                      f"measured DC {_f(meas['DC_percent'])} %, {_f(meas['nodes'], 'd')} nodes",
                      fontsize=9)
     return fig
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point; returns the exit code (:data:`drape.run.cli.EXIT_CODES`)."""
-    p = argparse.ArgumentParser(prog="python -m drape.validate", description=(
-        "Run the validation cases (Cusick cases with a [measured] table) as seed ensembles and "
-        "print simulated against measured drape; writes OUT/validation.json and validation.png."))
-    p.add_argument("directory", nargs="?", default=str(DEFAULT_DIR),
-                   help="folder of validation case files (default: cases/validation)")
-    p.add_argument("--seeds", type=int, default=1, metavar="N",
-                   help="perturbation seeds per case, 0..N-1 (default 1)")
-    p.add_argument("--out", default="out/validation", metavar="OUT", help="output folder")
-    add_batch_options(p, resume="continue a stopped validation in OUT")
-    args = p.parse_args(argv)
-    out = Path(args.out)
-    try:
-        if args.seeds < 1:
-            raise ValidationSetError(f"--seeds = {args.seeds}: must be >= 1")
-        out.mkdir(parents=True, exist_ok=True)
-        with sigterm_raises():
-            records = run_validation(args.directory, out, seeds=args.seeds,
-                                     overrides=args.overrides, workers=args.workers,
-                                     scheduler=args.scheduler, resume=args.resume,
-                                     quiet=args.quiet)
-    except (ValidationSetError, SweepError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    except OSError as exc:                 # the folder cannot be written, or is in use
-        print(f"error: {describe(exc)}", file=sys.stderr)
-        return EXIT_IO
-    except KeyboardInterrupt as exc:
-        return stopped(exc, "validation", f"continue with --resume --out {out}")
-    print(comparison_table(records))
-    png = out / "validation.png"
-    validation_figure(records).savefig(png, dpi=110)
-    print(f"top views in {png}; details in {out / 'validation.json'} and {out}/*/report.html")
-    return 0
-
-
-if __name__ == "__main__":
-    from drape.batch.validation_set import (
-        main as _main,  # the imported module's main: its classes are the ones raised
-    )
-
-    sys.exit(_main())

@@ -1,7 +1,8 @@
 """Identification: the bending law's parameters from scanned Cusick drapes.
 
-``python -m drape.identify SCANS... --base CASE --out DIR`` (:mod:`drape.identification.cli`):
-the scans' descriptors (:mod:`~drape.identification.target`), a misfit in the scans' own scatter
+``python -m drape.identify SCANS... --base CASE --out DIR`` (:mod:`drape.cli.identify`) runs
+:func:`~drape.identification.identify.identify`: the scans' descriptors
+(:mod:`~drape.identification.target`), a misfit in the scans' own scatter
 (:mod:`~drape.identification.objective`), forward runs as seed ensembles on Dask
 (:mod:`~drape.identification.forward`) kept as they finish (:mod:`~drape.identification.store`),
 Bayesian optimisation with a Gaussian-process surrogate (:mod:`~drape.identification.surrogate`,

@@ -18,13 +18,17 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from constitutive.bundled import cases_dir
 from drape.identification.target import Drape, Drapes
 
-__all__ = ["EVALUATIONS", "Evaluation", "fingerprint", "read_evaluations", "append_evaluation",
-           "library_evaluations"]
+__all__ = ["EVALUATIONS", "BUNDLED_LIBRARY", "Evaluation", "fingerprint", "read_evaluations",
+           "append_evaluation", "library_evaluations"]
 
 EVALUATIONS = "evaluations.jsonl"
 TABLE = "evaluations.csv"
+#: Forward runs shipped with the package (``cases/libraries/identification``), by set-up: an
+#: identification on a bundled base case starts from them instead of from nothing.
+BUNDLED_LIBRARY = cases_dir("libraries", "identification")
 
 
 @dataclass

@@ -1,11 +1,11 @@
-"""Running one case: the time loop's wiring, what is recorded, and the command line.
+"""Running one case: the time loop's wiring and what is recorded.
 
-``python -m drape.run CASE`` (or ``drape run CASE``) runs :func:`run_case`.
+``python -m drape.run CASE`` (or ``drape run CASE``, :mod:`drape.cli.run`) runs :func:`run_case`.
 
 Modules
 -------
 runner
-    :func:`run_case`, :func:`resume_run` and the command line.
+    :func:`run_case` and :func:`resume_run`.
 recorder
     What is kept of every converged step.
 checkpoint
@@ -22,13 +22,11 @@ run_profile
     :class:`RunProfile`: counts and wall-time split of a run.
 pictures
     Pictures of a finished run (``drape inspect``).
-termination, lock, cli
-    SIGTERM, one writer per output folder, exit codes and one-line errors.
+termination, lock, messages
+    SIGTERM, one writer per output folder, what went wrong in one line.
 """
 from drape.run.checkpoint import Checkpoint, read_checkpoint
-from drape.run.cli import EXIT_CODES
 from drape.run.output import read_history, read_pvd
 from drape.run.runner import resume_run, run_case
 
-__all__ = ["run_case", "resume_run", "Checkpoint", "read_checkpoint", "read_history", "read_pvd",
-           "EXIT_CODES"]
+__all__ = ["run_case", "resume_run", "Checkpoint", "read_checkpoint", "read_history", "read_pvd"]

@@ -1,6 +1,6 @@
-"""``python -m drape.run CASE``: :func:`drape.run.runner.main`."""
+"""``python -m drape.run CASE``: the ``drape run`` command (:func:`drape.cli.run.main`)."""
 import sys
 
-from drape.run.runner import main
+from drape.cli.run import main
 
 sys.exit(main())

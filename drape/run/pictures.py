@@ -1,4 +1,4 @@
-"""Pictures of a finished (or stopped) run: ``python -m drape.inspect DIR``.
+"""Pictures of a finished (or stopped) run (``python -m drape.inspect DIR``, :mod:`drape.cli.inspect`).
 
 Writes, into the run directory unless ``--out`` says otherwise,
 
@@ -23,20 +23,21 @@ Examples
 """
 from __future__ import annotations
 
-import argparse
 import csv
-import os
-import sys
+import json
 from pathlib import Path
 
 import numpy as np
 
 from constitutive.units import to_kes
-from drape.run.cli import EXIT_BAD_INPUT
+from drape.case.case import CaseError, load_case
+from drape.case.contact_build import body_surface, half_space
+from drape.contact import ContactInputError, RigidPath, shapes
+from drape.contact.half_space import HalfSpace
 from drape.run.output import read_pvd
 
-__all__ = ["find_pvd", "available", "render_step", "contact_bodies", "plot_history", "plot_kes_loop",
-           "main"]
+__all__ = ["InspectError", "find_pvd", "available", "render_step", "contact_bodies", "plot_history",
+           "plot_kes_loop"]
 
 
 class InspectError(ValueError):
@@ -106,11 +107,6 @@ def contact_bodies(directory):
     path = Path(directory) / "case.resolved.toml"
     if not path.is_file():
         return None
-    from drape.case.case import CaseError, load_case
-    from drape.case.contact_build import body_surface, half_space
-    from drape.contact import ContactInputError, RigidPath, shapes
-    from drape.contact.half_space import HalfSpace
-
     try:
         case = load_case(path)
         if case.contact is None or not case.contact.body:
@@ -213,8 +209,6 @@ def read_history(directory) -> dict[str, np.ndarray]:
 
 
 def _run_name(directory) -> str:
-    import json
-
     summary = Path(directory) / "summary.json"
     try:
         data = json.loads(summary.read_text())
@@ -270,7 +264,6 @@ def plot_kes_loop(directory, out=None) -> Path | None:
         return None
     from matplotlib.figure import Figure
 
-
     fig = Figure(figsize=(6, 4.5))
     ax = fig.subplots()
     ax.plot(to_kes(h["kappa"], "curvature"), to_kes(h["moment"], "moment"), lw=1)
@@ -284,54 +277,3 @@ def plot_kes_loop(directory, out=None) -> Path | None:
     out = Path(out) if out else Path(directory) / "kes_loop.png"
     fig.savefig(out, dpi=110)
     return out
-
-
-def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
-        prog="python -m drape.inspect",
-        description="PNG pictures of a drape.run.runner output directory: the deformed fabric coloured "
-                    "by a field (pyvista, off-screen) and plots of history.csv (matplotlib).",
-        epilog="Example: python -m drape.inspect out/cantilever --field moment_xx --step -1",
-    )
-    p.add_argument("directory", help="run output directory (holds <name>.pvd and history.csv)")
-    p.add_argument("--field", help="point or cell field to colour by (default: curvature_xx); "
-                                   "vectors are shown by magnitude")
-    p.add_argument("--step", type=int, default=-1,
-                   help="output step index in the PVD (default -1: the last one)")
-    p.add_argument("--out", metavar="PNG", help="file for the 3-D picture (default: in DIRECTORY)")
-    p.add_argument("--list", action="store_true", help="print the fields and output times, and exit")
-    p.add_argument("--no-history", action="store_true", help="skip the history plots")
-    return p
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point; returns the exit code (:data:`drape.run.cli.EXIT_CODES`)."""
-    args = _parser().parse_args(argv)
-    os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
-    try:
-        if args.list:
-            names, times = available(args.directory)
-            print("fields: " + ", ".join(names))
-            print(f"{len(times)} output steps, t = " + ", ".join(f"{t:.4g}" for t in times))
-            return 0
-        written = [render_step(args.directory, args.field, args.step, args.out,
-                               bodies=contact_bodies(args.directory))]
-        if not args.no_history:
-            written.append(plot_history(args.directory))
-            loop = plot_kes_loop(args.directory)
-            if loop is not None:
-                written.append(loop)
-    except InspectError as err:
-        print(f"error: {err}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    for path in written:
-        print(path)
-    return 0
-
-
-if __name__ == "__main__":
-    from drape.run.pictures import (
-        main as _main,  # the imported module's main: its classes are the ones raised
-    )
-
-    sys.exit(_main())

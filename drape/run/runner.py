@@ -1,4 +1,4 @@
-"""Run a case file: ``python -m drape.run CASE.toml [--out DIR] [--set key=value ...]``.
+"""Run a case file: :func:`run_case`, and :func:`resume_run` for a stopped one.
 
 The runner only wires parts together: the case (:mod:`drape.case.case`) is built into mesh, material
 and structural model (:mod:`drape.case.build`), integrated in time (:func:`drape.solvers.time_stepping.integrate`
@@ -9,18 +9,15 @@ as it goes (:class:`drape.run.output.OutputWriter`). Every converged step is app
 run that stops early (no convergence, Ctrl-C) leaves everything up to its last converged step.
 After the run the case's analysis (:mod:`drape.analyses`) adds its results to ``summary.json``.
 
-Exit codes (:mod:`drape.run.cli`): 0 completed or settled, 2 bad input (case file, material, mesh),
-3 the integrator failed to converge (``summary.json`` has ``status = "failed"`` and the reason),
-4 an I/O error (the output folder cannot be written, or another run writes into it), 130
-interrupted (Ctrl-C), 143 terminated (SIGTERM, handled like Ctrl-C), 1 an unexpected error. Each
-is reported as one line on stderr. Any other error during the integration also leaves
-``summary.json`` (``status = "error"``). Every converged step is checkpointed
-(:mod:`drape.run.checkpoint`); ``python -m drape.run --resume OUTDIR`` continues a stopped run. One
-process at a time writes into an output folder (:mod:`drape.run.lock`).
+``summary.json`` says how the run ended: ``status`` completed or settled, failed (the integrator
+did not converge; ``reason`` says why), interrupted (Ctrl-C), terminated (SIGTERM, handled like
+Ctrl-C) or error (any other error during the integration, which is raised again). Every
+converged step is checkpointed (:mod:`drape.run.checkpoint`); :func:`resume_run` continues a
+stopped run. One process at a time writes into an output folder (:mod:`drape.run.lock`). The
+command line, ``python -m drape.run`` and its exit codes, is :mod:`drape.cli.run`.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import logging
 import sys
@@ -41,22 +38,21 @@ from drape.case.build import (
     initial_fields,
     solver_options,
 )
-from drape.case.case import Case, CaseError, describe_schema, dump_case, load_case
+from drape.case.case import Case, dump_case, load_case
 from drape.case.timeline import hit_times, pseudo_times, time_phases
 from drape.fem import compiled  # compiled.cache_is_cold read at call time (tests replace it)
 from drape.run.atomic import atomic_write_text
 from drape.run.checkpoint import CHECKPOINT, Checkpoint, read_checkpoint
-from drape.run.cli import EXIT_CODES, EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_OK, Parser, fail, guarded
 from drape.run.lock import folder_lock
 from drape.run.output import OutputWriter, read_history
 from drape.run.recorder import Recorder, progress_bar
-from drape.run.termination import EXIT_TERMINATED, Terminated, sigterm_raises
+from drape.run.termination import Terminated
 from drape.solvers.newmark import ConvergenceError, initial_state
 from drape.solvers.static import quasi_static
 from drape.solvers.time_stepping import integrate
 
-__all__ = ["run_case", "resume_run", "main", "build", "build_mesh", "build_material", "initial_fields", "Parts",
-           "RunInputError"]
+__all__ = ["run_case", "resume_run", "read_summary", "ResumeError", "announce_compiling", "build",
+           "build_mesh", "build_material", "initial_fields", "Parts", "RunInputError"]
 
 log = logging.getLogger("drape.run.runner")
 
@@ -281,143 +277,3 @@ def _simulate(case: Case, parts: Parts, out_dir: Path, quiet: bool, wall0: float
     if error is not None:
         raise error
     return summary
-
-
-# --------------------------------------------------------------------------- CLI
-_EXAMPLES = f"""\
-example:
-  python -m drape.run cases/cantilever.toml --out out/cantilever \\
-      --set solver.t_end=0.5 --set mesh.nx=10 --set "mesh.length=3 cm"
-  python -m drape.inspect out/cantilever      (pictures of the result)
-
-outputs in DIR: <name>_NNNN.vtu + <name>.pvd (ParaView, pyvista), history.csv,
-summary.json, case.resolved.toml, run.log, checkpoint.npz; one run at a time writes
-into DIR; continue a stopped run with --resume DIR
-
-{EXIT_CODES}"""
-
-
-_OPTIONS = {
-    "--resume": dict(metavar="OUTDIR", help="continue the stopped run in OUTDIR from its checkpoint "
-                                            "(its last converged step)"),
-    "--out": dict(metavar="DIR", help="output directory (default: out/<case name>)"),
-    "--set": dict(metavar="KEY=VALUE", action="append", default=[], dest="overrides",
-                  help="override any case key by its dotted name; the value is read as TOML "
-                       "(numbers, true/false, arrays, \"strings\"), a bare word as a string: "
-                       "--set solver.dt=1e-3 --set model.kinematics=small; "
-                       "repeatable, applied before validation"),
-    "--quiet": dict(action="store_true", help="no progress bar, no final message"),
-    "--check": dict(action="store_true", help="validate the case and build mesh, material and model, "
-                                              "then stop (prints what would run; writes nothing)"),
-    "--help-case": dict(action="store_true",
-                        help="print every case-file table and key with its meaning, and exit"),
-}
-
-
-def _parser() -> argparse.ArgumentParser:
-    p = Parser(
-        prog="python -m drape.run", epilog=_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter,
-        description="Run a fabric bending / drape case file (TOML) and write VTU/PVD, "
-                    "history.csv and summary.json.")
-    p.add_argument("case", nargs="?", help="case file (TOML)")
-    for flag, options in _OPTIONS.items():
-        p.add_argument(flag, **options)
-    return p
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point; returns the exit code (:data:`drape.run.cli.EXIT_CODES`).
-
-    Every problem is one line on stderr; Ctrl-C and SIGTERM stop it at any point with 130 and
-    143 (a run stopped during its build leaves a summary.json that says so).
-    """
-    parser = _parser()
-    args = parser.parse_args(argv)
-    if args.help_case:
-        print(describe_schema())
-        return EXIT_OK
-    if args.resume is not None:
-        return _resume(args)
-    if args.case is None:
-        parser.error("the case file is required (or --help-case, --resume OUTDIR)")
-    with sigterm_raises():
-        return guarded(_run, args, what=f"in {args.case}")
-
-
-def _run(args) -> int:
-    case = load_case(args.case, args.overrides)
-    if args.check:
-        announce_compiling(case, args.quiet)
-        _print_check(case, build(case))
-        return EXIT_OK
-    out = Path(args.out) if args.out else Path("out") / case.case.name
-    source = f"from {args.case}" + "".join(f" --set {o}" for o in args.overrides)
-    summary = run_case(case, out, quiet=args.quiet, source=source)
-    return _report(summary, out, args.quiet)
-
-
-def _print_check(case: Case, parts: Parts) -> None:
-    """What ``--check`` found: the model, its size, the material and the loads."""
-    print(f"{case.case.name}: OK — {type(parts.model).__name__}, {parts.model.ndofs} dofs "
-          f"({len(parts.model.fixed_dofs)} fixed), {parts.mesh.t.shape[1]} triangles, "
-          f"material {getattr(parts.material, 'name', '?')}, "
-          f"t_end = {case.solver.t_end:g} s, dt = {case.solver.dt:g} s, "
-          f"analysis {case.case.analysis}")
-    tension = getattr(parts.material, "membrane_tension", None)
-    if tension is not None:
-        m = parts.material
-        print(f"  membrane taken at T = {tension:.3g} N/m: E11 = {m.E11:.4g} N/m, "
-              f"E22 = {m.E22:.4g} N/m, G12 = {m.G12:.4g} N/m")
-    alpha, beta = parts.model.rayleigh
-    if alpha or beta:
-        print(f"  damping C = {alpha:.3g} 1/s M + {beta:.3g} s K0")
-    if case.model.damping.drag_coefficient:
-        print(f"  air drag ½ ρ_air C_d |v·n| v·n normal to the fabric, C_d = "
-              f"{case.model.damping.drag_coefficient:g}")
-    if case.load.agitation is not None:
-        shake = case.load.agitation.describe()
-        print(f"  supports shaken {shake['cycles']} cycles at {shake['frequency_Hz']:g} Hz "
-              f"from t = {shake['start_s']:g} s to {shake['end_s']:g} s, peak "
-              f"{shake['peak_acceleration_g']:g} g, stroke {1e3 * shake['stroke_m']:.3g} mm")
-
-
-def _resume(args) -> int:
-    if args.case is not None or args.overrides or args.out or args.check:
-        return fail("--resume OUTDIR runs OUTDIR/case.resolved.toml: no case, --set, --out, --check")
-    with sigterm_raises():
-        return guarded(_resumed, args, what=f"cannot resume {args.resume}")
-
-
-def _resumed(args) -> int:
-    summary = resume_run(args.resume, quiet=args.quiet)
-    return _report(summary, Path(args.resume), args.quiet)
-
-
-def _report(summary: dict, out: Path, quiet: bool) -> int:
-    """Print the outcome of a run; return its exit code."""
-    name = summary["case"]
-    if summary["status"] == "failed":
-        print(f"{name}: FAILED at t = {summary['t_final']:g} s: {summary['reason']}; "
-              f"every converged step is kept in {out} ({summary['vtu_files']} VTU files, "
-              f"{summary['pvd']})", file=sys.stderr)
-        return EXIT_NOT_CONVERGED
-    if summary["status"] in ("interrupted", "terminated"):
-        print(f"{name}: {summary['status']} at t = {summary['t_final']:g} s; output kept in {out}; "
-              f"continue with: python -m drape.run --resume {out}", file=sys.stderr)
-        return EXIT_INTERRUPTED if summary["status"] == "interrupted" else EXIT_TERMINATED
-    if not quiet:
-        print(f"{name}: {summary['status']} ({summary['reason']}); "
-              f"{summary['steps']} steps in {summary['wall_time_s']:.1f} s; output in {out}")
-        if "analysis" in summary:
-            for key, value in summary["analysis"].items():
-                if isinstance(value, (int, float, str)):
-                    print(f"  {key}: {value}")
-    return EXIT_OK
-
-
-if __name__ == "__main__":
-    # run the imported module's main, not this copy's: under ``python -m`` this file is
-    # loaded twice, and only the imported copy's classes are the ones the layers raise
-    from drape.run.runner import main as _main
-
-    sys.exit(_main())

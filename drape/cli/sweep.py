@@ -1,4 +1,8 @@
-"""``python -m drape.sweep`` / ``drape sweep``: the sweep's command line.
+"""``drape sweep`` / ``python -m drape.sweep``: a base case over a run table, a grid or seeds.
+
+The rows the options give are run by :func:`drape.batch.sweep.run_sweep`; then
+``ensemble.json`` (:mod:`drape.batch.ensemble`, with ``--seeds``) and ``report.html``
+(:func:`drape.batch.report.write_report`) are written.
 """
 from __future__ import annotations
 
@@ -10,13 +14,13 @@ from drape.batch.ensemble import describe_ensemble, ensembles, seeded, write_ens
 from drape.batch.report import write_report
 from drape.batch.rows import SweepError, _checked, grid_rows, read_table
 from drape.batch.sweep import _one_line, _read_definition, run_sweep
-from drape.run.cli import EXIT_CODES, EXIT_OK, Parser, code_of, describe, fail
+from drape.cli.common import EXIT_CODES, EXIT_OK, Parser, add_batch_options, code_of, fail
+from drape.run.messages import describe
 from drape.run.termination import sigterm_raises, stopped
 
-__all__ = ['add_batch_options', 'main']
+__all__ = ["main"]
 
 
-# --------------------------------------------------------------------------- CLI
 def _parser() -> argparse.ArgumentParser:
     p = Parser(
         prog="python -m drape.sweep",
@@ -49,22 +53,8 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
-def add_batch_options(p, resume: str, quiet: str = "no progress bars") -> None:
-    """The options every batch of runs on Dask shares (sweep, validation set, sensitivity study):
-    ``--set``, ``--scheduler``, ``--workers``, ``--resume`` and ``--quiet`` (their help: ``resume``, ``quiet``)."""
-    p.add_argument("--set", metavar="KEY=VALUE", action="append", default=[], dest="overrides",
-                   help="override a case key in every run (as in drape.run.runner)")
-    p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="Dask scheduler of an existing cluster, e.g. tcp://HOST:8786 "
-                        "(default: DASK_SCHEDULER_ADDRESS, else a local cluster)")
-    p.add_argument("--workers", type=int, metavar="N",
-                   help="worker processes of the local cluster (default: one per core)")
-    p.add_argument("--resume", action="store_true", help=resume)
-    p.add_argument("--quiet", action="store_true", help=quiet)
-
-
 def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point; returns the exit code (:data:`drape.run.cli.EXIT_CODES`)."""
+    """Command-line entry point; returns the exit code (:data:`drape.cli.common.EXIT_CODES`)."""
     args = _parser().parse_args(argv)
     out = Path(args.out)
     with sigterm_raises():
@@ -73,7 +63,7 @@ def main(argv: list[str] | None = None) -> int:
         except KeyboardInterrupt as exc:
             return stopped(exc, "sweep", f"finished runs are in {out / 'results.csv'} "
                                          f"(continue with --resume)")
-        except (Exception) as exc:    # every problem is one line, with the code of its kind
+        except Exception as exc:    # every problem is one line, with the code of its kind
             return fail(describe(exc), code_of(exc))
     _print_records(records, out, args.quiet)
     return _finish(out, args.quiet)
@@ -97,7 +87,6 @@ def _sweep(args, out: Path) -> list[dict]:
         if not Path(case_path).is_file():
             raise SweepError(f"case file {case_path!r} does not exist")
         if args.seeds is not None:
-
             rows = _checked(seeded(case_path, overrides, rows, args.seeds), "--seeds")
     return run_sweep(case_path, rows, out, overrides=overrides, scheduler=args.scheduler,
                      workers=args.workers, resume=args.resume, quiet=args.quiet,
@@ -116,7 +105,6 @@ def _print_records(records: list[dict], out: Path, quiet: bool) -> None:
 
 def _finish(out: Path, quiet: bool) -> int:
     """ensemble.json and report.html of the finished sweep; the exit code."""
-
     try:
         if write_ensembles(out) is not None and not quiet:
             print("\n".join(describe_ensemble(e) for e in ensembles(out)))
@@ -129,10 +117,3 @@ def _finish(out: Path, quiet: bool) -> int:
         print(f"report in {report}")
     return EXIT_OK
 
-
-if __name__ == "__main__":
-    # run the imported module's main, not this copy's: under ``python -m`` this file is
-    # loaded twice, and only the imported copy's SweepError is the one the layers raise
-    from drape.batch.sweep_cli import main as _main
-
-    sys.exit(_main())

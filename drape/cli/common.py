@@ -1,4 +1,4 @@
-"""Exit codes and one-line errors shared by the command-line tools (run, sweep, validate, ...).
+"""What every command-line tool shares: the exit codes, one-line errors, common options.
 
 Each exit code means one thing (:data:`EXIT_CODES` is the table ``--help`` prints). A tool
 reports a problem as one line on stderr, ``error: ...``, never as a traceback:
@@ -8,19 +8,20 @@ reports a problem as one line on stderr, ``error: ...``, never as a traceback:
 2
 >>> code_of(FileNotFoundError(2, "No such file or directory", "out/x"))
 4
->>> describe(FileNotFoundError(2, "No such file or directory", "out/x"))
-"No such file or directory: 'out/x'"
+>>> code_of(KeyError("mesh"))
+1
 """
 from __future__ import annotations
 
 import argparse
 import sys
 
+from drape.run.messages import describe, one_line
 from drape.run.termination import EXIT_TERMINATED, Terminated
 
 __all__ = ["EXIT_OK", "EXIT_UNEXPECTED", "EXIT_BAD_INPUT", "EXIT_NOT_CONVERGED", "EXIT_IO",
-           "EXIT_INTERRUPTED", "EXIT_TERMINATED", "EXIT_CODES", "Parser", "one_line", "describe",
-           "code_of", "fail", "guarded"]
+           "EXIT_INTERRUPTED", "EXIT_TERMINATED", "EXIT_CODES", "Parser", "code_of", "fail",
+           "guarded", "add_batch_options"]
 
 EXIT_OK = 0
 #: An error nobody foresaw (a bug): still one line; a run's run.log has the traceback.
@@ -53,22 +54,6 @@ class Parser(argparse.ArgumentParser):
 
     def error(self, message):
         self.exit(EXIT_BAD_INPUT, f"error: {message} (see {self.prog} --help)\n")
-
-
-def one_line(text) -> str:
-    """``text`` with its lines joined by ``; `` (a schema error lists one problem a line)."""
-    return "; ".join(part.strip() for part in str(text).splitlines() if part.strip())
-
-
-def describe(exc: BaseException) -> str:
-    """What went wrong, in one line: the message, and for an OS error what it was about."""
-    if isinstance(exc, OSError) and exc.strerror:
-        where = f": {str(exc.filename)!r}" if exc.filename is not None else ""
-        return f"{exc.strerror}{where}"
-    text = one_line(exc)
-    if isinstance(exc, (ValueError, OSError)):
-        return text or type(exc).__name__
-    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 
 def code_of(exc: BaseException) -> int:
@@ -107,3 +92,18 @@ def guarded(body, *args, what: str = "", **kwargs) -> int:
         if code == EXIT_UNEXPECTED:
             prefix = "unexpected "
         return fail(prefix + describe(exc), code)
+
+
+def add_batch_options(p: argparse.ArgumentParser, resume: str, quiet: str = "no progress bars") -> None:
+    """The options every batch of runs on Dask shares (sweep, validation set, sensitivity study,
+    identification): ``--set``, ``--scheduler``, ``--workers``, ``--resume`` and ``--quiet``
+    (their help: ``resume``, ``quiet``)."""
+    p.add_argument("--set", metavar="KEY=VALUE", action="append", default=[], dest="overrides",
+                   help="override a case key in every run (as in drape.run.runner)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="Dask scheduler of an existing cluster, e.g. tcp://HOST:8786 "
+                        "(default: DASK_SCHEDULER_ADDRESS, else a local cluster)")
+    p.add_argument("--workers", type=int, metavar="N",
+                   help="worker processes of the local cluster (default: one per core)")
+    p.add_argument("--resume", action="store_true", help=resume)
+    p.add_argument("--quiet", action="store_true", help=quiet)

@@ -1,9 +1,10 @@
-"""``python -m drape.identify`` / ``drape identify``: the bending law from scanned drapes.
+"""``drape identify`` / ``python -m drape.identify``: the bending law from scanned drapes.
 
 ``python -m drape.identify SCAN [SCAN ...] --base CASE --out DIR [--free KEY ...] [--box KEY=LO,HI]
 [--seeds N] [--evaluations N] [--library LIB] [--no-bundled-library] [--weight W] [--resume]``
 
-Writes to DIR: ``identified.json`` (parameters, intervals and how they were computed, the
+The options make the identification's definition; :func:`drape.identification.identify.identify`
+runs it. Writes to DIR: ``identified.json`` (parameters, intervals and how they were computed, the
 scans' and the identified point's descriptors, the time spent where), ``material.toml`` (a
 material file ``load_material`` reads), ``report.html``, the forward runs (``runs/``) and the
 evaluation store (``evaluations.jsonl``, ``evaluations.csv``).
@@ -12,28 +13,21 @@ from __future__ import annotations
 
 import argparse
 import json
-import logging
 import math
 import os
-import sys
-import time
 from pathlib import Path
 
-from constitutive.bundled import cases_dir
-from drape.batch.sweep_cli import add_batch_options
-from drape.identification.parameters import DEFAULT_FREE, PARAMETERS, full_point, overrides, parse_box
-from drape.identification.search import CONVERGED_WITHIN, OutOfReach, Search, run_search
-from drape.run.cli import EXIT_CODES, EXIT_OK, Parser, code_of, describe, fail
+from drape.cli.common import EXIT_CODES, EXIT_OK, Parser, add_batch_options, code_of, fail
+from drape.identification.identify import DEFINITION, identify
+from drape.identification.parameters import DEFAULT_FREE, PARAMETERS, parse_box
+from drape.identification.search import CONVERGED_WITHIN, OutOfReach
+from drape.run.messages import describe
 from drape.run.termination import sigterm_raises, stopped
 
 __all__ = ["EXIT_OUT_OF_REACH", "main"]
 
 #: The scans lie beyond what the model reaches over the parameter box.
 EXIT_OUT_OF_REACH = 5
-#: Forward runs shipped with the package (``cases/libraries/identification``), by set-up: an
-#: identification on a bundled base case starts from them instead of from nothing.
-BUNDLED_LIBRARY = cases_dir("libraries", "identification")
-DEFINITION = "identify.json"
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -125,83 +119,12 @@ def _definition(args, out: Path) -> dict:
     return definition
 
 
-def _setup(definition: dict):
-    """The base case checked (a KES-only Cusick case whose box corners validate), its weight
-    (mg/cm²), thickness and the set-up's fingerprint."""
-    from drape.case.case import dump_case, load_case
-    from drape.identification.store import fingerprint
-    from drape.identification.surrogate import design
-
-    case = load_case(definition["base"], definition["set"])
-    if case.case.analysis != "cusick" or case.material.kes is None:
-        raise ValueError(f"--base {definition['base']}: needs a Cusick case with [material.kes] "
-                         "(e.g. cases/cusick_kes.toml)")
-    weight = definition["weight"] or float(case.material.kes.weight)
-    base = list(definition["set"]) + ([f"material.kes.weight={weight:g}"]
-                                      if definition["weight"] else [])
-    box = {k: tuple(v) for k, v in definition["box"].items()}
-    for corner in design(box, 0):
-        items = base + overrides(full_point(corner, list(box)), weight)
-        try:
-            load_case(definition["base"], items)
-        except ValueError as exc:
-            where = ", ".join(f"{k} = {v:g}" for k, v in corner.items())
-            raise ValueError(f"--box: the corner {where} is not a valid fabric at W = {weight:g} "
-                             f"mg/cm² ({' '.join(str(exc).split())}); narrow --box") from None
-    setup = fingerprint(dump_case(load_case(definition["base"], base)), [], weight)
-    return base, weight, case.material.kes.thickness, setup, box
-
-
-def quiet_dask() -> None:
-    """Dask's own warnings off the console (here and in the workers it starts): a cancelled
-    run at the end is expected, and the tool's errors are its one line."""
-    os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
-    import distributed  # noqa: F401  (its loggers exist once it is imported)
-
-    for name in ["distributed", *logging.root.manager.loggerDict]:
-        if name.startswith("distributed"):
-            logging.getLogger(name).setLevel(logging.ERROR)
-
-
 def _identify(args, out: Path) -> int:
-    from tqdm import tqdm
-
-    from drape.batch.sweep import open_client
-    from drape.identification.forward import ForwardRuns
-    from drape.identification.outputs import finish  # noqa: I001
-    from drape.identification.target import scan_drapes
-    from drape.run.lock import folder_lock
-
+    """The identification the options define, run; its summary printed."""
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers = {args.workers}: must be >= 1")
-    definition = _definition(args, out)
-    t0 = time.perf_counter()
-    target, scans = scan_drapes(definition["scans"])
-    read_s = time.perf_counter() - t0
-    base, weight, thickness, setup, box = _setup(definition)
-    out.mkdir(parents=True, exist_ok=True)
-    with folder_lock(out):
-        (out / DEFINITION).write_text(json.dumps(definition, indent=1))
-        search = Search(target, box, definition["evaluations"], out, setup,
-                        Path(definition["library"]) if definition["library"] else None,
-                        definition["design"],
-                        bundled=BUNDLED_LIBRARY if definition.get("bundled_library", False) else None,
-                        converged_within=definition.get("converged_within", CONVERGED_WITHIN))
-        search.seconds["io"] += read_s
-        quiet_dask()
-        client, cluster = open_client(args.scheduler, args.workers)
-        try:
-            workers = max(1, len(client.scheduler_info()["workers"]))
-            forward = ForwardRuns(client, definition["base"], base, weight, definition["seeds"],
-                                  out / "runs", setup)
-            with tqdm(total=definition["evaluations"], disable=args.quiet, unit="point",
-                      desc="evaluations", file=sys.stderr) as bar:
-                found = run_search(search, forward, max(1, workers // definition["seeds"]), bar)
-            result = finish(search, found, forward, scans, weight, thickness, definition)
-        finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()
+    result = identify(_definition(args, out), out, scheduler=args.scheduler, workers=args.workers,
+                      quiet=args.quiet)
     if not args.quiet:
         print(result["summary_line"])
         print(f"report in {out / 'report.html'}")
@@ -224,8 +147,3 @@ def main(argv: list[str] | None = None) -> int:
         except Exception as exc:    # every problem is one line, with the code of its kind
             return fail(describe(exc), code_of(exc))
 
-
-if __name__ == "__main__":
-    from drape.identification.cli import main as _main
-
-    sys.exit(_main())
