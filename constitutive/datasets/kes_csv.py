@@ -79,7 +79,7 @@ def load_kes_csv(path, units="kes", smooth=None, name=None):
 
     The rows must form one KES cycle 0 → K+ → K− → 0; the paths are found by
     :func:`detect_branches`.  The test rate is taken from the time column when
-    present (median |dκ/dt| on the constant-rate parts), else 0.5 cm⁻¹/s.
+    present (median ``|dκ/dt|`` on the constant-rate parts), else 0.5 cm⁻¹/s.
 
     Raises
     ------

@@ -23,7 +23,7 @@ from drape.identification.surrogate import WITHIN, Surrogate
 
 __all__ = ["FINAL", "INTERVAL_RULE", "MATCHED_Z", "finish"]
 
-#: |z_DC| up to which the identified point's drapes count as matching the scans' DC.
+#: ``|z_DC|`` up to which the identified point's drapes count as matching the scans' DC.
 MATCHED_Z = 2.0
 #: Name of the identified point's evaluation.
 FINAL = "identified"

@@ -339,7 +339,7 @@ class KirchhoffPlate:
         return self.load_scale * q * self._f_unit
 
     def force_scale(self, t: float) -> float:
-        """Typical force norm for the integrator's residual test: |f_ext(t)| at full load."""
+        """Typical force norm for the integrator's residual test: ``|f_ext(t)|`` at full load."""
         q = abs(self._pressure(t)) + abs(self._gravity(t)) * self.areal_mass * G0
         return float(q * np.linalg.norm(self._f_unit))
 
