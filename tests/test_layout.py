@@ -291,9 +291,26 @@ def test_drape_help_loads_no_tool():
     assert not [m for m in loaded if under(m, "drape.run", "drape.cli.run", "distributed", "scipy")]
 
 
-@pytest.mark.parametrize("module", ["drape", *COMMANDS.values()])
-def test_python_m_entry_points(module):
-    out = subprocess.run([sys.executable, "-m", module, "--help"], cwd=ROOT, capture_output=True,
-                         text=True, timeout=120)
+# ``python -m MODULE --help`` of each entry point, one interpreter for all (runpy is what -m runs)
+_HELP_OF_EACH = """
+import contextlib, io, json, runpy, sys, warnings
+warnings.simplefilter("ignore", RuntimeWarning)     # a module run again as __main__
+answers = {}
+for module in sys.argv[1:]:
+    sys.argv, out = [module, "--help"], io.StringIO()
+    try:
+        with contextlib.redirect_stdout(out):
+            runpy.run_module(module, run_name="__main__", alter_sys=True)
+    except SystemExit as stop:
+        answers[module] = [stop.code, out.getvalue()]
+print(json.dumps(answers))
+"""
+
+
+def test_python_m_entry_points():
+    modules = ["drape", *COMMANDS.values()]
+    out = run_python(_HELP_OF_EACH, *modules)
     assert out.returncode == 0, out.stderr
-    assert "usage:" in out.stdout
+    answers = json.loads(out.stdout.splitlines()[-1])
+    assert {m: code for m, (code, _) in answers.items()} == dict.fromkeys(modules, 0)
+    assert all(text.startswith("usage:") for _, text in answers.values())
