@@ -8,11 +8,11 @@ analysis "peirce_platform") and cases/cantilever.toml (the strip clamped at the 
     python benchmarks/peirce_platform_check.py --out out/peirce_check --set mesh.nx=28
     python benchmarks/peirce_platform_check.py --out out/peirce_check --elastic
 
-Beside them, the reference of benchmarks/pushed_elastica.py: the same law on an inextensible
-strip pushed quasi-statically over a perfect clamp, where it meets the line. The overhangs at
-the line compare the grips alone; the clamped cantilever's bending length comes from Peirce's
-relation at its own chord angle (45° for the elastic strip), which is itself 0.9 % off the
-relation at 41.5° on an exact elastica.
+Beside them, the reference of :mod:`constitutive.elastica` (benchmarks/pushed_elastica.py):
+the same law on an inextensible strip pushed quasi-statically over a perfect clamp, where it
+meets the line. The overhangs at the line compare the grips alone; the clamped cantilever's
+bending length comes from Peirce's relation at its own chord angle (45° for the elastic strip),
+which is itself 0.9 % off the relation at 41.5° on an exact elastica.
 
 ``--elastic`` runs both strips without the law's friction and viscosity: the two supports are
 then compared on the same elastic strip. With the friction moment the two tests load the strip
@@ -82,10 +82,9 @@ def elastica_overhang(run_dir: Path, elastic: bool) -> float:
     import dataclasses
     import tomllib
 
+    from constitutive.elastica import pushed_overhang
     from constitutive.material import load_material
     from constitutive.units import G0
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    from pushed_elastica import pushed_overhang
 
     case = tomllib.loads((run_dir / "case.resolved.toml").read_text())
     material = load_material(case["material"]["name"])

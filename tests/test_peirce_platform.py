@@ -1,5 +1,5 @@
 """The platform Peirce case against a separately computed strip: an inextensible elastica with the
-same bending law, clamped or pushed over a perfect clamp (benchmarks/pushed_elastica.py), which
+same bending law, clamped or pushed over a perfect clamp (:mod:`constitutive.elastica`), which
 shares nothing with the shell, its contact or its time stepping."""
 import dataclasses
 import json
@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from constitutive import elastica
 from constitutive.material import load_material
 from constitutive.units import G0
 from drape.analyses.bending_length import bending_length
@@ -17,18 +18,13 @@ CASES = Path(__file__).resolve().parents[1] / "cases"
 ELASTIC = ["--set", "material.friction=false", "--set", "material.d=0"]
 
 
-@pytest.fixture
-def elastica(benchmark_script):
-    return benchmark_script("pushed_elastica")
-
-
 @pytest.fixture(scope="module")
 def fabric1():
     material = load_material("fabric1")
     return material.warp, material.areal_mass * G0
 
 
-def test_elastic_elastica_pushed_meets_the_line_where_clamped_it_does(elastica, fabric1):
+def test_elastic_elastica_pushed_meets_the_line_where_clamped_it_does(fabric1):
     """Without memory the pushed strip is at every overhang what the clamped one is: clamped at
     the overhang where the pushed one met 41.5°, it hangs at 41.5° (to the interpolation
     between segments). With the law's friction the pushed strip is bent more, so it meets the
@@ -41,7 +37,7 @@ def test_elastic_elastica_pushed_meets_the_line_where_clamped_it_does(elastica, 
     assert elastica.clamped_chord(law, weight, hysteretic, 1e-4) < 41.5 - 0.5     # measured 40.73°
 
 
-def test_a_stiffer_grip_reads_closer_to_the_perfect_clamp(elastica, fabric1):
+def test_a_stiffer_grip_reads_closer_to_the_perfect_clamp(fabric1):
     """The elastic strip pushed through a grip of foundation stiffness K meets the line short of
     the perfect clamp, by a rotation at the edge that shrinks like K^(-1/4) (a beam on an elastic
     foundation): measured 2.8 % short at K = 10⁹ N/m³, 0.9 % at 10¹¹."""
@@ -57,7 +53,7 @@ def test_a_stiffer_grip_reads_closer_to_the_perfect_clamp(elastica, fabric1):
     assert points < stiff
 
 
-def test_elastica_hangs_at_the_clamped_shell_cantilevers_chord_angle(tmp_path, elastica, fabric1):
+def test_elastica_hangs_at_the_clamped_shell_cantilevers_chord_angle(tmp_path, fabric1):
     """cases/cantilever.toml (the shell, the law with its friction, dynamic settling) and the
     elastica clamped at the same overhang under a growing weight: chord angles within 0.05°."""
     law, weight = fabric1
@@ -67,7 +63,7 @@ def test_elastica_hangs_at_the_clamped_shell_cantilevers_chord_angle(tmp_path, e
     assert shell["chord_angle_deg"] == pytest.approx(reference, abs=0.05)
 
 
-def test_platform_meets_the_line_within_1_percent_of_a_perfect_clamp(tmp_path, elastica, fabric1):
+def test_platform_meets_the_line_within_1_percent_of_a_perfect_clamp(tmp_path, fabric1):
     """cases/peirce_platform.toml with an elastic strip (the grip compared alone): the overhang at
     which its tip meets 41.5°, so its bending length, within 1 % of the elastica's over a perfect
     clamp (measured: 0.6 % short, from the grip's give)."""
@@ -82,7 +78,7 @@ def test_platform_meets_the_line_within_1_percent_of_a_perfect_clamp(tmp_path, e
 
 
 def test_platform_with_the_law_gives_the_clamped_cantilevers_bending_length_within_2_percent(
-        tmp_path, elastica, fabric1):
+        tmp_path, fabric1):
     """The tester as shipped (the law with its friction): Peirce's bending length read on the
     platform within 2 % of the clamped cantilever's (the elastica clamped at cases/cantilever.toml's
     1.63 cm, which the shell cantilever meets within 0.05°, test above). Measured 1.9 % short:
