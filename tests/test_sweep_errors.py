@@ -110,7 +110,7 @@ def test_the_local_cluster_serves_no_dashboard_unless_asked_and_only_on_localhos
         client, cluster = sweep._client(None, 1, dashboard=asked)
         try:
             assert cluster.dashboard_link.startswith("http://127.0.0.1:")
-            assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
+            assert cluster.scheduler_address.startswith("tls://127.0.0.1:")
             assert status_page(cluster) == expected
         finally:
             client.close()

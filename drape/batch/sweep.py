@@ -36,6 +36,12 @@ status), 2 bad input, 4 an I/O error (the folder cannot be written or another sw
 into it, the scheduler cannot be reached), 130 interrupted (Ctrl-C), 143 terminated
 (SIGTERM): finished rows stay in ``results.csv``. The Dask dashboard is off unless
 ``--dashboard`` asks for it, and then it listens on 127.0.0.1 only.
+
+The embedded cluster listens on 127.0.0.1 only, and speaks mutual TLS with certificates made
+for it when it starts and held in memory (:meth:`distributed.security.Security.temporary`):
+another user of the machine can reach its port but cannot connect, so only the client of the
+process that started it submits work. An existing cluster (``--scheduler``) is used with
+whatever security its address and the Dask configuration give.
 """
 from __future__ import annotations
 
@@ -236,23 +242,35 @@ CONNECT_TIMEOUT = 10
 
 
 def _client(scheduler: str | None, workers: int | None, dashboard: bool = False):
-    """A Dask client: of ``scheduler`` (or DASK_SCHEDULER_ADDRESS), else of a LocalCluster.
-
-    The local cluster listens on 127.0.0.1 only, its web server (health checks; the dashboard,
-    which has no authentication, only if ``dashboard``) too.
-    """
+    """A Dask client: of ``scheduler`` (or DASK_SCHEDULER_ADDRESS), else of a local cluster
+    (:func:`_local_cluster`)."""
     import dask
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     address = scheduler or dask.config.get("scheduler-address", None)
     if address:
         _reachable(address)
         return Client(address, timeout=f"{CONNECT_TIMEOUT}s"), None
-    n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           host="127.0.0.1", dashboard_address="127.0.0.1:0",
-                           scheduler_kwargs={"dashboard": dashboard}, env=dict(SINGLE_THREADED))
-    return Client(cluster), cluster
+    cluster = _local_cluster(workers or os.cpu_count() or 1, dashboard)
+    return Client(cluster), cluster      # the cluster's credentials go with it
+
+
+def _local_cluster(workers: int, dashboard: bool = False):
+    """A :class:`distributed.LocalCluster` of ``workers`` single-threaded processes that only
+    this process's client can use.
+
+    It listens on 127.0.0.1 only, its web server (health checks; the dashboard, which has no
+    authentication, only if ``dashboard``) too. Any local user can reach a port there, so the
+    scheduler, workers and client speak mutual TLS with a key and certificate made for this
+    cluster and never written to disk: a client without them is refused at the handshake.
+    """
+    from distributed import LocalCluster
+    from distributed.security import Security
+
+    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                        host="127.0.0.1", protocol="tls://", security=Security.temporary(),
+                        dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": dashboard},
+                        env=dict(SINGLE_THREADED))
 
 
 def open_client(scheduler: str | None = None, workers: int | None = None):
