@@ -375,11 +375,12 @@ def test_stop_replay_counts_the_points_run_before_one_comes_back(tmp_path):
         replay_table(tmp_path)
 
 
-def test_a_fabrics_library_leaves_out_its_own_runs(benchmark_script, tmp_path):
-    """benchmarks/identify_fabrics.py --library-without-own: a fabric's library keeps the other
-    fabrics' forward runs and none of its own folder's, but for those at the initial design's
-    points (here the box's low corner), which every search runs whatever its scans."""
-    script = benchmark_script("identify_fabrics")
+def test_a_fabrics_library_leaves_out_its_own_runs(tmp_path):
+    """A fabric's library without its own runs keeps the other fabrics' forward runs and none
+    of its own folder's, but for those at the initial design's points (here the box's low
+    corner), which every search runs whatever its scans."""
+    from drape.identification.held_out import without_own
+
     source = tmp_path / "lib"
     point = {"bending_length": 1.0, "hysteresis": 0.5}
     corner = {"bending_length": 0.6, "hysteresis": 0.25}
@@ -388,7 +389,7 @@ def test_a_fabrics_library_leaves_out_its_own_runs(benchmark_script, tmp_path):
         runs = [{"seed": 0, "status": "settled", "run_dir": str(tmp_path / folder / "runs" / name / "s0"),
                  "wall_time_s": 1.0, "reason": "", "drape": None}]
         append_evaluation(source, Evaluation(at, "s", runs, name))
-    assert script.without_own(source, tmp_path / "own4", "fabric04") == 2
+    assert without_own(source, tmp_path / "own4", "fabric04") == 2
     assert [e.runs[0]["run_dir"] for e in read_evaluations(tmp_path / "own4")] == [
         str(tmp_path / "fabric14" / "runs" / "e000" / "s0"), str(tmp_path / "fabric04" / "runs" / "e001" / "s0")]
 
