@@ -46,6 +46,16 @@ def split(scans: dict, faces: str = "both") -> dict:
         Fabric number → ``{"train": [...], "test": [...], "down": [...], "creep": [...]}``, by
         fabric number: the scans of each half, the face-down captures (captures 3–4, listed
         either way) and the creep series as (sample, observation, scan).
+
+    Examples
+    --------
+    >>> scans = {"fabric04_sample01_capture1": "up", "fabric04_sample01_capture3": "down",
+    ...          "fabric04_sample02": "test", "fabric04_sample01_obs2": "creep"}
+    >>> halves = split(scans)[4]
+    >>> halves["train"], halves["test"], halves["down"], halves["creep"]
+    (['up', 'down'], ['test'], ['down'], [(1, 2, 'creep')])
+    >>> split(scans, "up")[4]["train"]
+    ['up']
     """
     if faces not in FACES:
         raise ValueError(f"faces must be 'both' or 'up', not {faces!r}")
