@@ -41,6 +41,7 @@ from __future__ import annotations
 import numpy as np
 
 from constitutive.friction import FrictionParams, FrictionState, ParameterError, restored_array
+from constitutive.sheet_friction_kernel import dahl_pair
 
 __all__ = ["SheetFrictionState", "rotate_voigt"]
 
@@ -77,9 +78,21 @@ class _DahlTensor:
         self.sf = np.stack([f_warp, f_weft, np.sqrt(f_warp * f_weft) / _SQRT2], -1)
         self.sa = np.stack([a_warp, a_weft, _SQRT2 * np.sqrt(a_warp * a_weft)], -1)
         self.power = self.sf * self.sa        # M · dκ = y · (sf sa) dz
+        self._flat = {}
+
+    def flat(self, shape):
+        """``sf`` and ``sa`` broadcast to ``shape + (3,)`` as contiguous ``(n, 3)`` arrays (kept
+        per shape: the compiled update reads them at every evaluation)."""
+        if shape not in self._flat:
+            self._flat[shape] = tuple(np.ascontiguousarray(np.broadcast_to(x, shape + (3,))).reshape(-1, 3)
+                                      for x in (self.sf, self.sa))
+        return self._flat[shape]
 
     def update(self, y_n, dkappa, tangent: bool):
-        """State after the increment ``dkappa`` and, with ``tangent``, ``dM/dκ`` (…, 3, 3)."""
+        """State after the increment ``dkappa`` and, with ``tangent``, ``dM/dκ`` (…, 3, 3).
+
+        The NumPy reference of the compiled update (:mod:`constitutive.sheet_friction_kernel`)
+        that :class:`SheetFrictionState` runs."""
         dz = dkappa / self.sa
         r = np.sqrt(np.einsum("...i,...i->...", dz, dz))
         slip = r > 0.0
@@ -182,14 +195,26 @@ class SheetFrictionState:
             raise ValueError(f"sheet curvature must end in 3 Voigt components, got shape {kappa.shape}")
         return kappa, kappa - self.kappa
 
+    def _update(self, dk, tangent: bool):
+        """``(M, dM/dκ or None, y1, y2)`` after the increment ``dk`` from the committed state,
+        by the compiled kernel (:func:`constitutive.sheet_friction_kernel.dahl_pair`)."""
+        shape = np.broadcast_shapes(np.shape(dk), self.y1.shape)[:-1]
+        flat = [np.ascontiguousarray(np.broadcast_to(x, shape + (3,)), dtype=float).reshape(-1, 3)
+                for x in (self.y1, self.y2, dk)]
+        n = flat[0].shape[0]
+        y1, y2, M = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
+        D = np.empty((n, 3, 3) if tangent else (0, 3, 3))
+        dahl_pair(*flat, *self._fast.flat(shape), *self._slow.flat(shape), y1, y2, M, D, tangent)
+        out = (M.reshape(shape + (3,)), D.reshape(shape + (3, 3)) if tangent else None)
+        return out + (y1.reshape(shape + (3,)), y2.reshape(shape + (3,)))
+
     def trial(self, kappa):
         """Friction moment (…, 3) and its consistent tangent ``dM/dκ`` (…, 3, 3) at a trial
         Voigt curvature; the state is not changed."""
         kappa, dk = self._increment(kappa)
-        y1, D1 = self._fast.update(self.y1, dk, True)
-        y2, D2 = self._slow.update(self.y2, dk, True)
+        M, D, y1, y2 = self._update(dk, True)
         self._cache = (kappa.copy(), y1, y2)
-        return self._fast.sf * y1 - self._slow.sf * y2, D1 - D2
+        return M, D
 
     def stick_tangent(self):
         """The tangent of a point that sticks at its committed state, (…, 3, 3), diagonal:
@@ -199,9 +224,7 @@ class SheetFrictionState:
     def moment(self, kappa):
         """Friction moment alone at a trial curvature (no mutation)."""
         _, dk = self._increment(kappa)
-        y1, _ = self._fast.update(self.y1, dk, False)
-        y2, _ = self._slow.update(self.y2, dk, False)
-        return self._fast.sf * y1 - self._slow.sf * y2
+        return self._update(dk, False)[0]
 
     def work(self, kappa):
         """Exact work ``∫ M_f · dκ`` from the committed to the trial curvature, per point."""
@@ -215,9 +238,7 @@ class SheetFrictionState:
         if c is not None and c[0].shape == kappa.shape and np.array_equal(c[0], kappa):
             y1, y2 = c[1], c[2]
         else:
-            dk = kappa - self.kappa
-            y1, _ = self._fast.update(self.y1, dk, False)
-            y2, _ = self._slow.update(self.y2, dk, False)
+            _, _, y1, y2 = self._update(kappa - self.kappa, False)
         self.y1 = np.broadcast_to(y1, self.kappa.shape).copy()
         self.y2 = np.broadcast_to(y2, self.kappa.shape).copy()
         self.kappa = kappa.copy()

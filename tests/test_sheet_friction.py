@@ -203,3 +203,50 @@ def test_a_bias_strip_hangs_like_a_warp_strip_with_tensor_friction(frame, same):
         assert rel.max() <= 0.001
     else:
         assert rel.max() > 0.2
+
+
+def _reference(state, kappa, tangent=True):
+    """Moment and tangent of the NumPy update (``_DahlTensor.update``), the compiled kernel's
+    reference."""
+    dk = kappa - state.kappa
+    y1, D1 = state._fast.update(state.y1, dk, tangent)
+    y2, D2 = state._slow.update(state.y2, dk, tangent)
+    return state._fast.sf * y1 - state._slow.sf * y2, (D1 - D2 if tangent else None), y1, y2
+
+
+@pytest.mark.parametrize("per_point", [False, True])
+def test_the_compiled_update_is_the_numpy_reference_to_round_off(per_point):
+    """Moment, tangent and new states of the compiled update equal the NumPy formulas' within
+    a few ulps, at slipping points and at points whose increment is zero (stick), with the
+    laws' parameters the same everywhere or varying from point to point."""
+    rng = np.random.default_rng(7)
+    shape = (40, 6)
+    warp, weft = WARP, WEFT
+    if per_point:
+        scale = np.exp(rng.normal(0.0, 0.3, shape))
+        warp = FrictionParams(f1=WARP.f1 * scale, f2=WARP.f2 * scale, eps_f=WARP.eps_f, eta=WARP.eta)
+    state = SheetFrictionState(warp, weft, shape)
+    for _ in range(3):                      # a history: states away from zero
+        state.commit(state.kappa + rng.normal(0.0, 60.0, shape + (3,)))
+    kappa = state.kappa + rng.normal(0.0, 30.0, shape + (3,))
+    kappa[:7] = state.kappa[:7]             # points that stick
+    kappa[7:9] *= 1.0 + 1e-12               # points that barely slip
+    M, D = state.trial(kappa)
+    M_ref, D_ref, y1_ref, y2_ref = _reference(state, kappa)
+    assert np.abs(M - M_ref).max() <= 1e-13 * np.abs(M_ref).max()
+    assert np.abs(D - D_ref).max() <= 1e-13 * np.abs(D_ref).max()
+    assert np.abs(state.moment(kappa) - M_ref).max() <= 1e-13 * np.abs(M_ref).max()
+    state.commit(kappa)                     # the trial's states, kept from the kernel
+    assert np.abs(state.y1 - y1_ref).max() <= 1e-14 and np.abs(state.y2 - y2_ref).max() <= 1e-14
+
+
+def test_the_compiled_commit_takes_the_reference_states():
+    """A commit at a curvature other than the last trial's updates the states as the NumPy
+    reference does."""
+    rng = np.random.default_rng(3)
+    state = SheetFrictionState(WARP, WEFT, (25,))
+    state.commit(rng.normal(0.0, 80.0, (25, 3)))
+    kappa = state.kappa + rng.normal(0.0, 20.0, (25, 3))
+    _, _, y1, y2 = _reference(state, kappa, tangent=False)
+    state.commit(kappa)
+    assert np.abs(state.y1 - y1).max() <= 1e-14 and np.abs(state.y2 - y2).max() <= 1e-14
