@@ -2,13 +2,18 @@
 with one line and a documented exit code within seconds, never a traceback or a hang.
 
 The runner is called in-process with ``--check`` (validate and build, no time stepping). The
-keys are enumerated from the case schema, so a new key is fuzzed as soon as it exists.
+keys are enumerated from the case schema, so a new key is fuzzed as soon as it exists. Run
+tables are drawn mostly valid, so that most of them reach the rows' checks and must build
+there, with a fixed share broken on purpose in every way a table can be, each of which must
+be refused in one line.
 """
 from __future__ import annotations
 
 import contextlib
+import csv
 import io
 import time
+from collections import Counter
 from datetime import timedelta
 from pathlib import Path
 
@@ -144,24 +149,162 @@ def test_any_value_of_any_case_key_is_answered_in_one_line(base, key, value):
     assert_answered(*check(case, small + [item]), what=f"{case.name} --set {item!r}")
 
 
-@FUZZ
-@given(key=st.sampled_from(KEYS + ["measured.DC", "name", "bending_scale", "mesh..nx", ".x"]),
-       cells=st.lists(st.one_of(st.just(""), scalars.map(as_set_value)), min_size=1, max_size=3),
-       name=st.one_of(path_tricks, st.sampled_from(["", "a", "run-1"])))
-def test_any_run_table_is_read_or_refused_in_one_line(tmp_path_factory, key, cells, name):
-    """A run table's columns and cells: read_table refuses it, or each row's case is checked."""
-    import csv
+# --------------------------------------------------------------------------- run tables
+def _number(low: float, high: float, unit: str = ""):
+    return st.floats(low, high).map(lambda x: f"{x:.6g}{unit}")
 
-    table = tmp_path_factory.mktemp("table") / "runs.csv"
-    with open(table, "w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(["name", key])
-        writer.writerows([[f"{name}{i}" if name else "", cell] for i, cell in enumerate(cells)])
+
+#: Columns a run table of the cantilever base may have, each with cells its rules accept
+#: (``measured.*`` columns take any number).
+VALID_COLUMNS = {
+    "material.bending_scale": _number(0.25, 4.0),
+    "material.friction": st.sampled_from(["true", "false"]),
+    "mesh.nx": st.integers(2, 4).map(str),
+    "mesh.ny": st.integers(1, 2).map(str),
+    "mesh.length": _number(1.0, 5.0, " cm"),
+    "solver.dt": _number(0.002, 0.02),
+    "solver.t_end": _number(0.5, 8.0),
+    "model.damping.alpha": _number(0.0, 60.0),
+    "load.gravity.ramp_time": _number(0.05, 1.0),
+    "measured.DC": _number(0.0, 100.0),
+    "measured.nodes": st.integers(0, 12).map(str),
+}
+#: Cells that break the rule of their column.
+BAD_CELLS = {
+    "material.bending_scale": ["-1", "0", "nan", "inf", "stiff"],
+    "material.friction": ["maybe", "2"],
+    "mesh.nx": ["0", "-2", "1.5", "many"],
+    "mesh.ny": ["0", "-1"],
+    "mesh.length": ["-1 cm", "0 cm", "5 kg", "5 __import__"],
+    "solver.dt": ["-0.01", "0", "nan"],
+    "solver.t_end": ["-1", "0"],
+}
+#: Column names a run table refuses (not dotted) or a row's case refuses (no such key).
+UNDOTTED = ["bending_scale", "nx", "friction", "measured"]
+MISSPELT = ["material.bending_scal", "mesh.nxx", "solver.dtt", "mesh..nx", ".x", "mesh."]
+#: Run names that cannot name a run's folder, whitespace aside.
+BAD_NAMES = ["..", "a/b", "../x", "-a", ".hidden", "a b", "é"]
+#: How a table is broken on purpose.
+BREAKS = ("undotted column", "misspelt key", "repeated column", "bad run name",
+          "repeated run name", "ragged row", "bad cell", "no runs")
+#: Valid tables per table broken on purpose, each example having one broken each way: a share
+#: of 1/(VALID_PER_BROKEN + 1) broken, and every way tried, whatever way Hypothesis leans in
+#: its draws. The valid ones must all be read and built; the floor on the share that is holds
+#: the mix to mostly valid tables.
+VALID_PER_BROKEN = 4
+ACCEPTED_FLOOR = 0.75
+#: Examples of a few dozen tables each.
+TABLE_FUZZ = settings(FUZZ, max_examples=4,
+                      deadline=timedelta(seconds=(VALID_PER_BROKEN + 1) * len(BREAKS) * SECONDS))
+
+
+@st.composite
+def valid_tables(draw) -> tuple[list[str], list[list[str]]]:
+    """A header and rows that a sweep of the cantilever reads and builds: known columns, cells
+    within their rules or blank (the base case's value), unique run names or none."""
+    columns = draw(st.lists(st.sampled_from(sorted(VALID_COLUMNS)), min_size=1, max_size=4,
+                            unique=True))
+    n = draw(st.integers(1, 3))
+    cells = [[draw(st.one_of(st.just(""), VALID_COLUMNS[c])) for c in columns] for _ in range(n)]
+    for row in cells:
+        if not any(row):                   # a blank line is no run
+            row[0] = draw(VALID_COLUMNS[columns[0]])
+    if draw(st.booleans()):
+        names = draw(st.lists(st.from_regex(r"[A-Za-z0-9][A-Za-z0-9._-]{0,8}", fullmatch=True),
+                              min_size=n, max_size=n, unique=True))
+        return ["name", *columns], [[name, *row] for name, row in zip(names, cells)]
+    return columns, cells
+
+
+def _break(draw, how: str, header: list[str], rows: list[list[str]]):
+    """``header`` and ``rows`` broken the way ``how`` says (every way is refused)."""
+    keys = [i for i, c in enumerate(header) if c != "name"]
+    if how == "undotted column":
+        header[draw(st.sampled_from(keys))] = draw(st.sampled_from(UNDOTTED))
+    elif how == "misspelt key":
+        i = draw(st.sampled_from(keys))
+        header[i] = draw(st.sampled_from(MISSPELT))
+        rows[0][i] = "1"                  # a blank cell would keep the base: nothing to refuse
+    elif how == "repeated column":
+        i = draw(st.sampled_from(keys))
+        header.append(header[i])
+        for row in rows:
+            row.append(row[i])
+    elif how in ("bad run name", "repeated run name"):
+        if header[0] != "name":
+            header.insert(0, "name")
+            rows[:] = [[f"r{k}", *row] for k, row in enumerate(rows)]
+        if how == "bad run name":
+            rows[draw(st.integers(0, len(rows) - 1))][0] = draw(st.sampled_from(BAD_NAMES))
+        else:
+            rows.append(list(rows[0]))
+    elif how == "ragged row":
+        rows[draw(st.integers(0, len(rows) - 1))].append("1")
+    elif how == "bad cell":
+        column = draw(st.sampled_from(sorted(BAD_CELLS)))
+        if column not in header:
+            header.append(column)
+            for row in rows:
+                row.append("")
+        rows[draw(st.integers(0, len(rows) - 1))][header.index(column)] = \
+            draw(st.sampled_from(BAD_CELLS[column]))
+    else:                                  # "no runs": the header alone
+        rows.clear()
+    return header, rows
+
+
+@st.composite
+def run_table_batches(draw) -> list[tuple[list[str], list[list[str]], str | None]]:
+    """Tables ``(header, rows, broken)``: for each way in :data:`BREAKS`, one broken that way
+    (``broken`` says how) and :data:`VALID_PER_BROKEN` valid ones (``broken`` None)."""
+    tables = []
+    for how in BREAKS:
+        tables += [(*draw(valid_tables()), None) for _ in range(VALID_PER_BROKEN)]
+        header, rows = draw(valid_tables())
+        tables.append((*_break(draw, how, header, rows), how))
+    return tables
+
+
+def _read_and_check(path: Path, broken: str | None) -> str:
+    """Read the table at ``path`` and check each row's case: "accepted" or "refused", after
+    asserting each answer is one line and the verdict the one ``broken`` calls for."""
     try:
-        rows = sweep_rows.read_table(table)
+        rows = sweep_rows.read_table(path)
     except sweep_rows.SweepError as exc:
         assert "\n" not in str(exc)
-        return
+        assert broken, f"a valid table refused: {exc}"
+        return "refused"
     case, small = BASES[0]
-    for row in rows:
-        assert_answered(*check(case, small + row.overrides()), what=f"row {row}")
+    answers = [check(case, small + row.overrides()) for row in rows]
+    for row, answer in zip(rows, answers):
+        assert_answered(*answer, what=f"row {row}")
+    refused = [row for row, answer in zip(rows, answers) if answer[0] != cli.EXIT_OK]
+    assert bool(refused) == bool(broken), f"{broken or 'valid'} table, rows refused: {refused}"
+    return "refused" if refused else "accepted"
+
+
+def test_run_tables_are_mostly_read_and_built_and_the_broken_ones_refused(tmp_path_factory):
+    """Mostly valid run tables: each is read and every row builds. A share is broken on
+    purpose, every way of :data:`BREAKS`, and refused in one line, by the table reader or by a
+    row's check. The share read and built is printed (``-s`` or ``-rA``) and held above a floor."""
+    verdicts: Counter = Counter()
+    breaks: Counter = Counter()
+
+    @TABLE_FUZZ
+    @given(tables=run_table_batches())
+    def one(tables):
+        for header, rows, broken in tables:
+            path = tmp_path_factory.mktemp("table") / "runs.csv"
+            with open(path, "w", newline="") as fh:
+                csv.writer(fh).writerows([header, *rows])
+            verdicts[_read_and_check(path, broken)] += 1
+            breaks[broken] += 1
+
+    one()
+    total = sum(verdicts.values())
+    accepted = verdicts["accepted"] / total
+    print(f"run tables: {verdicts['accepted']} of {total} read and built ({accepted:.0%}, floor "
+          f"{ACCEPTED_FLOOR:.0%}); {total - breaks[None]} broken on purpose, all refused: "
+          + ", ".join(f"{how} {breaks[how]}" for how in BREAKS))
+    assert accepted >= ACCEPTED_FLOOR
+    assert breaks[None] < total
