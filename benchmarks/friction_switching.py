@@ -29,23 +29,24 @@ def main(argv=None) -> int:
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="case override")
     args = p.parse_args(argv)
     sys.path.insert(0, str(ROOT))
-    import drape.cli.run as run
     from constitutive.friction import FrictionState
     from constitutive.friction_switching import SwitchCounter
+    from drape.cli.run import main as run
+    from drape.run.recorder import Recorder
 
     counter = SwitchCounter(FrictionState).install()
     rows = []
-    record = run.Recorder.__call__
+    record = Recorder.__call__
 
     def recorded(rec, state, info=None):
         if info is not None:
             rows.append((state.t, info.dt, info.iterations, counter.take()))
         return record(rec, state, info)
 
-    run.Recorder.__call__ = recorded
+    Recorder.__call__ = recorded
     with tempfile.TemporaryDirectory() as out:
         overrides = [a for key in args.set for a in ("--set", key)]
-        run.main([args.case, "--out", out, "--quiet", *overrides])
+        run([args.case, "--out", out, "--quiet", *overrides])
     print(f"{'t [s]':>8s} {'dt [s]':>7s} {'iter':>4s}  switches at each new evaluation point")
     for t, dt, iterations, switches in rows:
         print(f"{t:8.3f} {dt:7.3f} {iterations:4d}  {switches}")
