@@ -8,8 +8,10 @@ deformed surface ``points + displacement``.
 
 Each check here raises :class:`ScanError` with one line that says what is wrong and what to
 do about it: coordinates that are not finite, a scan in other units than metres (its extent a
-hundred or a thousand times the specimen's), no flat disc top, a scan that reaches beyond
-the stated specimen.
+hundred or a thousand times the specimen's) or of no plausible size in any unit (a stray
+vertex), no flat disc top, a scan that reaches beyond the stated specimen by more than
+:data:`EXTENT_REFUSED`. What a scan must be besides to be read as a drape (its area, its
+disc, its coverage of the annulus, its holes) is checked in :mod:`drape.analyses.scan_checks`.
 """
 from __future__ import annotations
 
@@ -21,11 +23,18 @@ import shapely
 
 from meshes.io import read_quietly, surface_triangles
 
-__all__ = ["ScanError", "DiscTop", "read_scan", "check_finite", "check_units", "find_disc_top",
-           "check_extent"]
+__all__ = ["ScanError", "DiscTop", "EXTENT_SILENT", "EXTENT_REFUSED", "read_scan", "check_finite",
+           "check_units", "find_disc_top", "check_extent"]
 
 #: Unit slips recognised by their factor to metres: (name, scale factor that converts them).
 _UNIT_SLIPS = (("centimetres", 1e-2), ("millimetres", 1e-3), ("micrometres", 1e-6))
+#: How far (decades) a scan's size in a slipped unit may lie from a drape's to be named as it.
+_SLIP_DECADES = 0.5
+#: A scan's reach past the stated specimen radius (fraction of it): up to EXTENT_SILENT it is
+#: the scanner's noise and the fabric's thickness; up to EXTENT_REFUSED a stretched fabric or
+#: an offset registration, measured with a warning; beyond, another specimen size.
+EXTENT_SILENT = 0.01
+EXTENT_REFUSED = 0.05
 
 
 class ScanError(ValueError):
@@ -89,12 +98,15 @@ def read_scan(path, scale: float = 1.0):
         Missing or unreadable file, or no triangles in it.
     """
     path = Path(path)
+    if path.is_dir():
+        raise ScanError(f"{path}: is a folder, not a mesh file")
     if not path.is_file():
         raise ScanError(f"{path}: no such file")
     mesh = _read_mesh(path)
     triangles = _triangles(mesh)
     points = np.zeros((len(mesh.points), 3))
-    points[:, : mesh.points.shape[1]] = mesh.points[:, :3]
+    dim = min(3, mesh.points.shape[1]) if mesh.points.ndim == 2 else 0
+    points[:, :dim] = mesh.points[:, :dim]
     u = mesh.point_data.get("displacement")
     if u is not None and np.shape(u) == points.shape:
         points = points + u
@@ -111,21 +123,40 @@ def check_finite(points) -> None:
 
 
 def check_units(points, specimen_radius: float, disc_radius: float) -> None:
-    """Refuse a scan whose size says it is not in metres.
+    """Refuse a scan whose size says it is not in metres, or is no drape in any unit.
 
     The projected extent of a drape lies between the disc's and the specimen's diameter; one
-    ten times the specimen or more, or under half the disc, is in other units.
+    ten times the specimen or more, or under half the disc, is in other units. Vertices that
+    lie that far from all the others are stray ones, and a size no unit slip explains is
+    refused with the extent it has.
     """
-    span = float(np.ptp(points[:, :2], axis=0).max()) if len(points) else 0.0
-    stated = f"a {_cm(2 * specimen_radius)} specimen"
-    if span > 10.0 * 2.0 * specimen_radius:
-        ratio = span / (2.0 * specimen_radius)
+    xy = points[:, :2]
+    span = float(np.ptp(xy, axis=0).max()) if len(points) else 0.0
+    diameter = 2.0 * specimen_radius
+    stated = f"a {_cm(diameter)} specimen"
+    if span > 10.0 * diameter:
+        _check_stray(xy, diameter, stated)
+        ratio = span / diameter
         name, factor = min(_UNIT_SLIPS, key=lambda u: abs(np.log10(ratio * u[1])))
+        if abs(np.log10(ratio * factor)) > _SLIP_DECADES:
+            raise ScanError(f"scan spans {span:.4g} across, {ratio:.3g} times {stated}: not a "
+                            f"drape in metres, centimetres, millimetres or micrometres")
         raise ScanError(f"scan spans {span:.4g} across for {stated}: looks like {name}, convert to "
                         f"metres or pass --scale {factor:g}")
     if span < disc_radius:
         raise ScanError(f"scan spans {span:.4g} across, less than the {_cm(2 * disc_radius)} disc: "
                         f"not in metres? convert or pass --scale")
+
+
+def _check_stray(xy, diameter: float, stated: str) -> None:
+    """Refuse a scan of which a few vertices lie ten specimens or more from the rest."""
+    dist = np.hypot(*(xy - np.median(xy, axis=0)).T)
+    far = dist > 10.0 * diameter
+    if 0 < far.sum() <= 0.01 * len(xy):
+        rest = float(np.ptp(xy[~far], axis=0).max())
+        raise ScanError(f"{int(far.sum())} of {len(xy)} vertices lie up to {dist.max():.4g} from "
+                        f"the others, which span {rest:.4g} across for {stated}: stray vertices, "
+                        f"remove them")
 
 
 def _cm(length: float) -> str:
@@ -187,13 +218,31 @@ def find_disc_top(points, disc_radius: float, tolerance: float = 3e-4,
     return DiscTop((float(centre[0]), float(centre[1])), radius, level, len(top))
 
 
-def check_extent(points, centre, specimen_radius: float, tolerance: float = 0.02) -> None:
+def check_extent(points, centre, specimen_radius: float) -> str | None:
     """Refuse a scan that reaches farther from the disc centre than the stated specimen.
 
-    A hanging specimen's shadow lies within its flat radius; ``tolerance`` (a fraction of
-    that radius) allows for the scanner's noise and a small stretch.
+    A hanging specimen's shadow lies within its flat radius. A reach past it up to
+    :data:`EXTENT_SILENT` of it is the scanner's noise; up to :data:`EXTENT_REFUSED`, a
+    stretched fabric or an offset registration, which is measured: the warning is returned.
+
+    Returns
+    -------
+    str or None
+        The warning, one line, or None.
+
+    Raises
+    ------
+    ScanError
+        Beyond :data:`EXTENT_REFUSED` of the stated radius.
     """
     reach = float(np.max(np.hypot(points[:, 0] - centre[0], points[:, 1] - centre[1])))
-    if reach > (1.0 + tolerance) * specimen_radius:
+    past = reach / specimen_radius - 1.0
+    if past > EXTENT_REFUSED:
         raise ScanError(f"scan reaches r = {_cm(reach)} from the disc centre, beyond the stated "
-                        f"specimen radius {_cm(specimen_radius)}: pass --specimen")
+                        f"specimen radius {_cm(specimen_radius)} by more than "
+                        f"{100 * EXTENT_REFUSED:g} %: pass --specimen")
+    if past > EXTENT_SILENT:
+        return (f"scan reaches r = {_cm(reach)} from the disc centre, {100 * past:.1f} % past the "
+                f"stated specimen radius {_cm(specimen_radius)} (a stretched fabric or an offset "
+                f"registration?); measured")
+    return None

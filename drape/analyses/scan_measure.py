@@ -13,21 +13,38 @@ the scan (:func:`drape.analyses.scan.find_disc_top`) or given.  The descriptors 
 :meth:`drape.analyses.drape_coefficient.CusickResult.summary`, the keys a simulated run's ``summary.json`` has,
 among them the outline's harmonic amplitudes (:mod:`drape.analyses.outline`), which compare two drapes
 whatever their orientation on the disc.
+
+Before it is measured a surface is checked to be a drape (:mod:`drape.analyses.scan`,
+:mod:`drape.analyses.scan_checks`): one that is not is refused with one line
+(:class:`~drape.analyses.scan.ScanError`); one measured in spite of a flaw (a small hole, a
+reach a few millimetres past the specimen, turned upside down) carries a warning line in
+:attr:`Measurement.warnings`. The stated sizes must be a Cusick tester's
+(:data:`SIZE_RANGES`): a bare number is metres.
 """
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from constitutive.units import ureg
 from drape.analyses.drape_coefficient import CusickError, CusickResult, drape_analysis, plot_top_view
-from drape.analyses.scan import ScanError, check_extent, check_finite, check_units, find_disc_top, read_scan
+from drape.analyses.scan import ScanError, check_extent, check_finite, check_units, read_scan
+from drape.analyses.scan_checks import (
+    check_area,
+    check_arrays,
+    check_centre,
+    check_coverage,
+    check_disc,
+    check_holes,
+    locate_disc,
+)
 
-__all__ = ["SPECIMEN_DIAMETER", "DISC_DIAMETER", "TOP_BAND", "Measurement", "length_m",
-           "measure_surface", "measure_scan", "format_table", "unique_names", "write_outputs"]
+__all__ = ["SPECIMEN_DIAMETER", "DISC_DIAMETER", "TOP_BAND", "SIZE_RANGES", "Measurement",
+           "length_m", "plausible_size", "check_sizes", "measure_surface", "measure_scan",
+           "format_table", "unique_names", "write_outputs"]
 
 #: BS 5058 set-up: a 30 cm specimen on an 18 cm disc (m).
 SPECIMEN_DIAMETER = 0.30
@@ -38,6 +55,10 @@ TABLE_HARMONICS = 8
 #: stiff fabric stays within a millimetre of the top past the disc's edge, which would bias the
 #: centre towards its flattest side.
 TOP_BAND = 3e-4
+#: Plausible sizes (m) of what a Cusick tester holds, by what they are: a size outside is a
+#: slip of the unit (a bare number is metres).
+SIZE_RANGES = {"specimen diameter": (0.10, 1.0), "disc diameter": (0.05, 0.5),
+               "top band": (1e-6, 0.02)}
 
 
 @dataclass
@@ -54,6 +75,8 @@ class Measurement:
     disc_top : drape.analyses.scan.DiscTop or None
         The flat top found on the disc (None when the centre was given).
     n_vertices, n_triangles : int
+    warnings : list of str
+        What was measured in spite of a flaw, one line each.
     """
 
     name: str
@@ -62,6 +85,7 @@ class Measurement:
     disc_top: object
     n_vertices: int
     n_triangles: int
+    warnings: list = field(default_factory=list)
 
     def descriptors(self) -> dict:
         """JSON-ready: the simulated drape's summary keys, the centre used and the outline."""
@@ -79,6 +103,7 @@ class Measurement:
             **self.result.summary(),
             "outline_angles_deg": [float(a) for a in np.degrees(self.result.angles)],
             "outline_radius_m": [float(r) for r in self.result.radius],
+            "warnings": list(self.warnings),
         }
 
 
@@ -102,6 +127,54 @@ def length_m(text, positive: bool = True) -> float:
     if not np.isfinite(value) or (positive and value <= 0.0):
         raise ValueError(f"{text!r}: a length must be {'positive' if positive else 'finite'}")
     return value
+
+
+def plausible_size(kind: str, value: float) -> float:
+    """``value`` (m) if it is a plausible size of ``kind`` (a key of :data:`SIZE_RANGES`).
+
+    Examples
+    --------
+    >>> plausible_size("specimen diameter", 0.3)
+    0.3
+    >>> plausible_size("specimen diameter", 30)
+    Traceback (most recent call last):
+    ...
+    ValueError: 30 m is no specimen diameter: 10 cm to 1 m (a bare number is metres: write 30cm)
+    """
+    low, high = SIZE_RANGES[kind]
+    if low <= value <= high:
+        return value
+    meant = [f"{value:g}{unit}" for unit, f in (("cm", 1e-2), ("mm", 1e-3))
+             if low <= value * f <= high]
+    hint = f": write {' or '.join(meant)}" if meant else ""
+    raise ValueError(f"{value:g} m is no {kind}: {_size(low)} to {_size(high)} (a bare number "
+                     f"is metres{hint})")
+
+
+def _size(length: float) -> str:
+    for unit, factor in (("m", 1.0), ("cm", 1e-2), ("mm", 1e-3), ("µm", 1e-6)):
+        if length >= factor:
+            return f"{length / factor:g} {unit}"
+    return f"{length:g} m"
+
+
+def check_sizes(specimen_radius: float, disc_radius: float, top_band: float = TOP_BAND) -> None:
+    """Refuse sizes no Cusick tester has (:data:`SIZE_RANGES`) and a specimen no larger than
+    its disc.
+
+    Raises
+    ------
+    drape.analyses.scan.ScanError
+    """
+    try:
+        plausible_size("specimen diameter", 2 * specimen_radius)
+        plausible_size("disc diameter", 2 * disc_radius)
+        plausible_size("top band", top_band)
+    except (TypeError, ValueError) as exc:
+        raise ScanError(str(exc)) from None
+    if specimen_radius <= disc_radius:
+        raise ScanError(f"specimen {2 * specimen_radius:g} m must be larger than the disc "
+                        f"{2 * disc_radius:g} m")
 
 
 def measure_surface(points, triangles, specimen_radius: float = SPECIMEN_DIAMETER / 2,
@@ -129,23 +202,42 @@ def measure_surface(points, triangles, specimen_radius: float = SPECIMEN_DIAMETE
     Raises
     ------
     drape.analyses.scan.ScanError
-        Coordinates not finite or not in metres, no disc top, or larger than the specimen.
+        Sizes no Cusick tester has; coordinates not finite or not in metres; no drape
+        (:mod:`drape.analyses.scan_checks`: too little area, no disc top or one of another
+        size than the disc's, part of the skirt missing, holes); larger than the specimen.
     """
+    check_sizes(specimen_radius, disc_radius, top_band)
     points = np.asarray(points, dtype=float)
     triangles = np.asarray(triangles)
+    with np.errstate(all="ignore"):     # absurd coordinates are refused in words below
+        return _measured(points, triangles, specimen_radius, disc_radius, centre, name, top_band)
+
+
+def _measured(points, triangles, specimen_radius, disc_radius, centre, name, top_band):
+    """:func:`measure_surface` once the arrays are arrays: the checks in order, the analysis."""
+    check_arrays(points, triangles)
     check_finite(points)
     check_units(points, specimen_radius, disc_radius)
-    top = None
+    check_area(points, triangles, specimen_radius, disc_radius)
+    warnings, top = [], None
     if centre is None:
-        top = find_disc_top(points, disc_radius, top_band)
+        points, top, turned = locate_disc(points, disc_radius, top_band)
+        warnings.append(turned)
         centre = top.centre
-    check_extent(points, centre, specimen_radius)
+    else:
+        centre = tuple(float(c) for c in centre)
+        check_centre(points, centre)
+    warnings.append(check_coverage(points, triangles, centre, disc_radius, top_band))
+    if top is not None:
+        check_disc(points, top, disc_radius)
+    warnings.append(check_extent(points, centre, specimen_radius))
     try:
         result = drape_analysis(points, triangles, specimen_radius, disc_radius, centre=centre)
     except CusickError as exc:
         raise ScanError(str(exc)) from None
+    warnings.append(check_holes(result))
     return Measurement(name, result, "disc top" if top is not None else "given", top,
-                       len(points), len(triangles))
+                       len(points), len(triangles), [w for w in warnings if w])
 
 
 def measure_scan(path, specimen_radius: float = SPECIMEN_DIAMETER / 2,
@@ -156,17 +248,21 @@ def measure_scan(path, specimen_radius: float = SPECIMEN_DIAMETER / 2,
     Raises
     ------
     drape.analyses.scan.ScanError
-        One line naming the file and what is wrong with it.
+        One line naming the file and what is wrong with it. Its warnings name it too.
     """
     path = Path(path)
     try:
         points, triangles = read_scan(path, scale)
-        return measure_surface(points, triangles, specimen_radius, disc_radius, centre,
-                               name or path.stem, top_band)
+        m = measure_surface(points, triangles, specimen_radius, disc_radius, centre,
+                            name or path.stem, top_band)
     except ScanError as exc:
-        message = str(exc)
-        message = message if message.startswith(str(path)) else f"{path}: {message}"
-        raise ScanError(message) from None
+        raise ScanError(_naming(path, str(exc))) from None
+    m.warnings = [_naming(path, w) for w in m.warnings]
+    return m
+
+
+def _naming(path: Path, message: str) -> str:
+    return message if message.startswith(str(path)) else f"{path}: {message}"
 
 
 def format_table(measurements) -> str:
