@@ -15,13 +15,15 @@ from __future__ import annotations
 
 import argparse
 import sys
+import tempfile
+from pathlib import Path
 
 from drape.run.messages import describe, one_line
 from drape.run.termination import EXIT_TERMINATED, Terminated
 
 __all__ = ["EXIT_OK", "EXIT_UNEXPECTED", "EXIT_BAD_INPUT", "EXIT_NOT_CONVERGED", "EXIT_IO",
            "EXIT_INTERRUPTED", "EXIT_TERMINATED", "EXIT_CODES", "Parser", "code_of", "fail",
-           "guarded", "add_batch_options"]
+           "guarded", "add_batch_options", "writable_folder"]
 
 EXIT_OK = 0
 #: An error nobody foresaw (a bug): still one line; a run's run.log has the traceback.
@@ -107,3 +109,29 @@ def add_batch_options(p: argparse.ArgumentParser, resume: str, quiet: str = "no 
                    help="worker processes of the local cluster (default: one per core)")
     p.add_argument("--resume", action="store_true", help=resume)
     p.add_argument("--quiet", action="store_true", help=quiet)
+
+
+def writable_folder(path, option: str) -> Path:
+    """``path`` as a folder a tool can write into, checked before anything is written.
+
+    The folder need not exist yet: its nearest existing parent must be a folder in which a
+    (temporary, removed at once) folder can be made. Nothing is left behind.
+
+    Raises
+    ------
+    OSError
+        One line naming ``option`` (exit code :data:`EXIT_IO`): a file in the way, or a place
+        that cannot be written.
+    """
+    path = Path(path)
+    existing = next(p for p in (path, *path.parents) if p.exists())
+    if not existing.is_dir():
+        where = "a file is in the way" if existing == path else f"{existing} is a file"
+        raise OSError(f"{option} {path}: {where}, not a folder")
+    try:
+        with tempfile.TemporaryDirectory(dir=existing, prefix=".drape-probe-"):
+            pass
+    except OSError as exc:
+        raise OSError(f"{option} {path}: cannot write in {existing} "
+                      f"({exc.strerror or describe(exc)})") from None
+    return path
