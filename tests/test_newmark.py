@@ -195,6 +195,27 @@ def test_symmetric_and_general_factorizations_give_the_same_path_with_one_analys
         assert solver.analyses == 1 and solver.factorizations >= 20 and solver.solves > solver.factorizations
 
 
+def test_kept_tangents_follow_the_same_path_with_fewer_factorisations():
+    """Modified Newton across steps (``NewtonPolicy.reuse_contraction``): a friction plate's
+    free vibration takes the same path within Newton's tolerance, factorising under half as
+    many tangents as Newton (a kept tangent serves several iterations, and the next step)."""
+    from constitutive.friction import FrictionParams
+    from drape.solvers.newton import NewtonPolicy
+
+    runs = []
+    for policy in (NewtonPolicy(), NewtonPolicy(reuse_contraction=0.5)):
+        plate = linear_cantilever(law={"k3": 1e-8, "friction": FrictionParams(2e-4, 1e-4, 50.0, 0.5)})
+        solver = DirectSolver(symmetric=True, backend="superlu")
+        steps = []
+        s = integrate(plate, PERIOD, PERIOD / 20, released(plate), linear_solver=solver, policy=policy,
+                      rtol=1e-10, du_rtol=1e-10, on_step=lambda s, i: steps.append(i))
+        runs.append((s.u, solver.factorizations, len(steps)))
+    (u_newton, f_newton, n), (u_kept, f_kept, n_kept) = runs
+    assert n == n_kept == 20
+    np.testing.assert_allclose(u_kept, u_newton, rtol=1e-7, atol=1e-7 * np.abs(u_newton).max())
+    assert f_kept < 0.5 * f_newton
+
+
 def test_auto_predictor_falls_back_only_to_a_start_near_balance():
     """A Newton budget of one iteration fails every start of a stiff cubic oscillator; "auto"
     starts from u₁ = u₀ and tries constant acceleration after it only when that start's

@@ -10,6 +10,7 @@ import scipy.sparse as sp
 
 from constitutive.friction import FrictionParams
 from constitutive.law import BendingLaw
+from drape.solvers.linear import DirectSolver
 from drape.solvers.newton import NewtonPolicy, NewtonTolerances, newton
 
 
@@ -138,3 +139,79 @@ def test_an_attempt_that_stalls_on_full_steps_gives_up():
     np.testing.assert_allclose(r[1:] / r[:-1], 1 / 0.52 - 1, rtol=1e-12)   # every step full
     res = newton(problem, np.array([1.0]), tol, NewtonPolicy(stall_iterations=0))
     assert not res.converged and res.iterations == tol.max_iter and "max_iter" in res.reason
+
+
+class KeyedProblem(Problem):
+    """A :class:`Problem` that names its tangents (``tangent_key``), as a time step does by its size."""
+
+    def __init__(self, f, jac, b=0.0, key="step"):
+        super().__init__(f, jac, b)
+        self.key = key
+
+    def tangent_key(self):
+        return self.key
+
+
+def _mildly_nonlinear(n=40):
+    """``A x + 0.05 x³ = b`` with A a tridiagonal stiffness: a tangent that changes little."""
+    A = sp.diags([-1.0, 2.5, -1.0], [-1, 0, 1], shape=(n, n)).toarray()
+    f = lambda x: A @ x + 0.05 * x ** 3  # noqa: E731
+    jac = lambda x: A + np.diag(0.15 * x ** 2)  # noqa: E731
+    return f, jac, np.linspace(0.5, 1.5, n)
+
+
+def test_a_kept_tangent_converges_to_the_same_root_with_fewer_factorisations():
+    """Modified Newton (the tangent kept while it contracts) meets the same tests at the same
+    root, factorising fewer tangents than Newton in more, cheaper iterations."""
+    f, jac, b = _mildly_nonlinear()
+    tol = NewtonTolerances(rtol=1e-12, du_rtol=1e-12)
+    plain = newton(Problem(f, jac, b), np.zeros(b.size), tol)
+    kept = newton(Problem(f, jac, b), np.zeros(b.size), tol, NewtonPolicy(reuse_contraction=0.5))
+    assert plain.converged and kept.converged
+    np.testing.assert_allclose(kept.x, plain.x, rtol=1e-10)
+    assert np.linalg.norm(f(kept.x) - b) <= 1e-12 * np.linalg.norm(b) * 10
+    assert kept.factorizations < plain.factorizations
+    assert kept.iterations >= plain.iterations
+
+
+def test_the_next_problem_of_the_same_key_starts_from_the_kept_tangent():
+    """A second solve whose problem has the same tangent key (a nearby load) starts from the
+    factorisation the first left and converges without factorising; one with another key
+    factorises its own."""
+    f, jac, b = _mildly_nonlinear()
+    solver = DirectSolver(symmetric=False, backend="superlu")
+    tol = NewtonTolerances(rtol=1e-10, du_rtol=1e-10)
+    policy = NewtonPolicy(reuse_contraction=0.5)
+    first = newton(KeyedProblem(f, jac, b), np.zeros(b.size), tol, policy, solver)
+    again = newton(KeyedProblem(f, jac, 1.01 * b), first.x, tol, policy, solver)
+    other = newton(KeyedProblem(f, jac, 1.02 * b, key="other"), again.x, tol, policy, solver)
+    assert first.converged and again.converged and other.converged
+    assert again.factorizations == 0 and other.factorizations >= 1
+    np.testing.assert_allclose(f(again.x), 1.01 * b, rtol=1e-9)
+
+
+def test_a_kept_tangent_that_no_longer_contracts_is_replaced():
+    """A factorisation kept under the same key but of a very different problem (the tangent
+    changed by a factor of 50) is refused at the first step and replaced by a fresh tangent: the
+    solve converges, as Newton does."""
+    f, jac, b = _mildly_nonlinear()
+    solver = DirectSolver(symmetric=False, backend="superlu")
+    tol = NewtonTolerances(rtol=1e-10, du_rtol=1e-10)
+    policy = NewtonPolicy(reuse_contraction=0.5)
+    newton(KeyedProblem(f, jac, b), np.zeros(b.size), tol, policy, solver)
+    stiff = lambda x: 50.0 * f(x)  # noqa: E731
+    stiff_jac = lambda x: 50.0 * jac(x)  # noqa: E731
+    res = newton(KeyedProblem(stiff, stiff_jac, 50.0 * b), np.zeros(b.size), tol, policy, solver)
+    assert res.converged and res.factorizations >= 1
+    np.testing.assert_allclose(f(res.x), b, rtol=1e-8)
+
+
+def test_without_tangent_reuse_no_factorisation_is_taken_over():
+    """The default policy factorises its own tangent even where the solver holds one of the same key."""
+    f, jac, b = _mildly_nonlinear()
+    solver = DirectSolver(symmetric=False, backend="superlu")
+    tol = NewtonTolerances(rtol=1e-10, du_rtol=1e-10)
+    newton(KeyedProblem(f, jac, b), np.zeros(b.size), tol, None, solver)
+    res = newton(KeyedProblem(f, jac, 1.01 * b), np.zeros(b.size), tol, None, solver)
+    assert res.converged and res.factorizations >= 1
+    assert solver.tag == ("step", "consistent")

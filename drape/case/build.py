@@ -273,12 +273,13 @@ def initial_fields(case: Case, model):
 def solver_options(case: Case, model) -> dict:
     """Newton tolerances, policy and one linear solver for every phase of a run.
 
-    Newton tries the case's friction tangent first and the law's stick tangent after it
+    Newton tries the case's friction tangent first and the law's stick tangent after it, and
+    keeps a tangent while it contracts by ``tangent_reuse``
     (:class:`drape.solvers.newton.NewtonPolicy`); the direct solver is symmetric when the model's
     tangents are, and keeps its symbolic analysis for the whole run.
     """
     s = case.solver
     tangents = tuple(dict.fromkeys((case.model.friction_tangent, "stick")))
     return dict(rtol=s.rtol, atol=s.atol, du_rtol=s.du_rtol, du_atol=s.du_atol, max_iter=s.max_iter,
-                policy=NewtonPolicy(tangents=tangents),
+                policy=NewtonPolicy(tangents=tangents, reuse_contraction=s.tangent_reuse),
                 linear_solver=DirectSolver(symmetric=model.symmetric_tangent, backend=s.linear_solver))

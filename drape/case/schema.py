@@ -224,6 +224,12 @@ class SolverSpec(_Section):
     """Newton: absolute increment tolerance [m]."""
     max_iter: int = Field(25, ge=1)
     """Newton iterations before the step is cut."""
+    tangent_reuse: float = Field(0.5, ge=0, lt=1)
+    """Newton keeps its factorised tangent for the next iteration, and the next step of the same
+    size, while each full step contracts the correction by at least this factor (modified
+    Newton: an iteration then costs a residual and a back-substitution, not a tangent's assembly
+    and factorisation); a kept tangent that contracts less is replaced at once. 0: a fresh
+    tangent every iteration."""
     max_cuts: int = Field(6, ge=0)
     """Step halvings before the run stops with a convergence error."""
     error_tolerance: float | None = Field(None, gt=0, lt=1)

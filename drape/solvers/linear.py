@@ -368,6 +368,10 @@ class DirectSolver:
         a non-positive pivot, and of the few after each (``_PardisoSymmetric.RETRY_AFTER``).
     seconds : dict
         Wall time spent in each phase.
+    tag : hashable or None
+        What the last factorised matrix is, as its caller named it (``factorize(A, tag)``):
+        a caller that finds its own tag may solve with the factorisation instead of
+        factorising its matrix anew (a modified Newton keeps a tangent across steps).
     """
 
     def __init__(self, symmetric: bool = False, backend: str = "auto"):
@@ -379,9 +383,11 @@ class DirectSolver:
         self._pattern = self._input = self._triu = None
         self.analyses = self.factorizations = self.solves = 0
         self.seconds = {"analysis": 0.0, "factorization": 0.0, "solve": 0.0}
+        self.tag = None
 
-    def factorize(self, A) -> None:
-        """Factorise ``A`` (CSR); a new sparsity pattern is analysed first."""
+    def factorize(self, A, tag=None) -> None:
+        """Factorise ``A`` (CSR), named ``tag``; a new sparsity pattern is analysed first."""
+        self.tag = None
         A = A if sp.isspmatrix_csr(A) else sp.csr_matrix(A)
         t0 = time.perf_counter()
         if not _same_pattern(A, self._input):
@@ -403,6 +409,7 @@ class DirectSolver:
         t1 = time.perf_counter()
         self._impl.factorize(A)
         self.factorizations += 1
+        self.tag = tag
         t2 = time.perf_counter()
         self.seconds["analysis"] += t1 - t0
         self.seconds["factorization"] += t2 - t1

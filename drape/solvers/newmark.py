@@ -232,6 +232,12 @@ class _StepProblem:
         ev, R, scale = self._evaluate(x, tangent, (1.0 + al, (1.0 + al) * g / (b * dt), 1.0 / (b * dt * dt)))
         return R[self.free], self.restrict(self.free, ev.J), scale
 
+    def tangent_key(self):
+        """What this step's tangents share with another step's: the weights of ``K``, ``C`` and
+        ``M`` (the step size and the scheme's coefficients) and the free dofs."""
+        return ("newmark", float(f"{self.dt:.12g}"), self.beta, self.gamma, self.alpha, self.free.size,
+                hash(self.free.tobytes()))
+
     def norm_reference(self, x):
         # the step's round-off comes from u₀ and Δt v₀ as much as from u (which may pass zero)
         u, _, _ = self._fields(x)

@@ -45,6 +45,17 @@ error-oriented NLEQ-ERR damping):
 - If the first tangent of ``policy.tangents`` fails, Newton restarts from
   ``x0`` with the next (e.g. the friction law's *stick* tangent, which is
   positive and constant in the step: slower, but it cannot point uphill).
+- With ``policy.reuse_contraction`` > 0 the factorised tangent is kept while it
+  contracts (modified Newton, Deuflhard §2.3.3): after a full step whose
+  contraction ``‖Δx̄‖/‖Δx‖`` is at most that value, the simplified correction
+  ``Δx̄`` is the next correction, and a problem that names its tangents
+  (``tangent_key``, e.g. a time step's size) starts from the last one factorised
+  for the same key. A kept tangent's full step is accepted only at that
+  contraction; otherwise a fresh tangent is factorised at the iterate. An
+  iteration then costs one residual and one back-substitution instead of a
+  tangent's assembly and factorisation, about a sixth, where the tangent changes
+  little from iteration to iteration and step to step (a drape creeping into
+  equilibrium); the converged iterate meets the same tests.
 
 Examples
 --------
@@ -88,6 +99,8 @@ class NonlinearProblem(Protocol):
 
     # optional: max_step(x, dx) -> float in (0, 1], the largest safe fraction of the step
     # x -> x + dx (continuous collision detection); a problem without it allows every step.
+    # optional: tangent_key() -> hashable, equal for problems whose tangents are alike (a
+    # modified Newton may start from the last tangent factorised for the same key).
 
 
 @dataclass(frozen=True)
@@ -134,8 +147,12 @@ class NewtonPolicy:
         excluded); 0: never (only ``max_iter`` ends it).
     trial_tangent : bool
         Evaluate a full step's trial with its tangent (the next iteration's if the trial is
-        accepted), unless the step is expected to converge; False: the residual alone, and
-        the tangent in an evaluation of its own.
+        accepted), unless the step is expected to converge or to keep its tangent; False: the
+        residual alone, and the tangent in an evaluation of its own.
+    reuse_contraction : float
+        Keep the factorised tangent after a full step that contracted at least this much
+        (``‖Δx̄‖ ≤ reuse_contraction ‖Δx‖``), and start from the last one factorised for the
+        problem's ``tangent_key`` (modified Newton); 0: a fresh tangent at every iteration.
     """
 
     tangents: tuple = ("consistent",)
@@ -145,6 +162,7 @@ class NewtonPolicy:
     kink_growth: float = 10.0
     stall_iterations: int = 8
     trial_tangent: bool = True
+    reuse_contraction: float = 0.0
 
     def __post_init__(self):
         if not self.tangents or not all(isinstance(t, str) for t in self.tangents):
@@ -155,6 +173,8 @@ class NewtonPolicy:
             raise ValueError("jump_ratio and kink_growth must be >= 1 and kink_steps >= 0")
         if int(self.stall_iterations) < 0:
             raise ValueError(f"stall_iterations must be >= 0, got {self.stall_iterations!r}")
+        if not 0 <= self.reuse_contraction < 1:
+            raise ValueError(f"reuse_contraction must lie in [0, 1), got {self.reuse_contraction!r}")
 
 
 @dataclass
@@ -177,6 +197,11 @@ def _norms(xs) -> str:
     return "[" + ", ".join(f"{v:.3e}" for v in xs[-6:]) + "]"
 
 
+#: :meth:`_Attempt._damped_step`'s answer when a kept tangent's full step is refused: a fresh
+#: tangent at the iterate is due, no damping of the old direction.
+_REFRESH = "refresh"
+
+
 class _Attempt:
     """One Newton run from ``x0`` with one material tangent."""
 
@@ -187,6 +212,10 @@ class _Attempt:
         self.ref = 0.0
         self.J = None          # the factorised tangent
         self.contraction = np.inf   # ‖Δx̄‖/(λ‖Δx‖) of the last accepted step
+        self.stale = False     # the factorised tangent is not the current iterate's (kept)
+        self.refused_start = False   # a kept tangent was refused at the first step
+        key = getattr(problem, "tangent_key", None)
+        self.key = None if key is None else (key(), tangent)
 
     # -- the problem's evaluations, counted
     def _residual(self, x):
@@ -203,14 +232,23 @@ class _Attempt:
         return R, float(np.linalg.norm(R)), J
 
     def _factorize(self, J):
-        self.solver.factorize(J)
+        self.solver.factorize(J, tag=self.key)
         self.result.factorizations += 1
         self.J = J
+        self.stale = False
 
     def _linearize(self, x):
         R, r, J = self._assemble(x)
         self._factorize(J)
         return R, r
+
+    def _start(self, x):
+        """Residual at ``x`` with a factorised tangent: the last one of this problem's
+        ``tangent_key`` when the policy keeps tangents, else a fresh one."""
+        if self.policy.reuse_contraction and self.key is not None and self.solver.tag == self.key:
+            self.stale = True
+            return self._residual(x)
+        return self._linearize(x)
 
     def _tolerances(self, x):
         return (self.tol.rtol * self.ref + self.tol.atol,
@@ -232,9 +270,9 @@ class _Attempt:
         return res
 
     def run(self, x0) -> NewtonResult:
-        res, pol = self.result, self.policy
+        res = self.result
         x = np.array(x0, dtype=float)
-        R, r = self._linearize(x)
+        R, r = self._start(x)
         self.ref = max(self.ref, r)
         res.residual_norms.append(r)
         if not np.isfinite(r):
@@ -244,10 +282,28 @@ class _Attempt:
         if self._converged(x, r, dx_norm):
             res.x, res.converged = x, True
             return res
+        result = self._iterate(x, R, r, dx, dx_norm)
+        if self.refused_start and self.solver.tag == self.key:
+            # the last step's tangent did not serve this one's start: the next step starts fresh
+            self.solver.tag = None
+        return result
+
+    def _iterate(self, x, R, r, dx, dx_norm) -> NewtonResult:
+        """The iterations of :meth:`run` from the first correction ``dx`` at ``x``."""
+        res, pol = self.result, self.policy
         first, lam, kinks = dx_norm, 1.0, 0
         best, stalled, slow = np.inf, 0, 0
         while res.iterations < self.tol.max_iter:
+            kept = self.stale
             step = self._damped_step(x, dx, dx_norm, r, first, lam)
+            if step is _REFRESH:   # the kept tangent no longer contracts: a fresh one here
+                self.refused_start = self.refused_start or not res.iterations
+                R, r = self._linearize(x)
+                dx = self.solver.solve(-R)
+                dx_norm, lam, self.contraction = float(np.linalg.norm(dx)), 1.0, np.inf
+                if not res.iterations:
+                    first = dx_norm
+                continue
             if step is None:
                 if kinks >= pol.kink_steps:
                     return self._fail(x, "no damping factor reduced the error")
@@ -259,19 +315,24 @@ class _Attempt:
             res.iterations += 1
             res.residual_norms.append(r)
             res.increment_norms.append(lam_used * dx_norm)
-            if self._converged(x, r, float(np.linalg.norm(dx_next))):
+            next_norm = float(np.linalg.norm(dx_next))
+            if self._converged(x, r, next_norm):
                 res.x, res.converged = x, True
                 return res
             if r < 0.5 * best:
                 best, stalled, slow = r, 0, 0
-            else:  # full steps that do not halve it cycle; damped ones descend, if slowly
+            elif not kept:  # full steps that do not halve it cycle; damped ones descend, if slowly
                 stalled, slow = stalled + (lam_used == 1.0), slow + 1
             limit = pol.stall_iterations
             if limit and (stalled >= limit or slow >= 3 * limit):
                 return self._fail(x, f"the residual did not halve in {slow} iterations "
                                      f"({stalled} of them undamped)")
-            self.contraction = float(np.linalg.norm(dx_next)) / max(lam_used * dx_norm, 1e-300)
-            if not fresh:  # the simplified correction served the test; now a new tangent
+            self.contraction = next_norm / max(lam_used * dx_norm, 1e-300)
+            if fresh:
+                self.stale = False
+            elif lam_used == 1.0 and self._keeps(x, r, next_norm):
+                self.stale = True   # the simplified correction is the next correction
+            else:  # the simplified correction served the test; now a new tangent
                 if J_next is None:
                     R, r = self._linearize(x)
                 else:
@@ -280,6 +341,18 @@ class _Attempt:
             dx, dx_norm = dx_next, float(np.linalg.norm(dx_next))
             lam = min(1.0, 2.0 * lam_used)
         return self._fail(x, f"max_iter = {self.tol.max_iter} reached")
+
+    def _keeps(self, x, r, next_norm) -> bool:
+        """Whether the factorised tangent serves the next iteration too: the last full step
+        contracted by ``reuse_contraction`` or more, and at that rate both tests are expected to
+        pass with two iterations to spare (for a fresh tangent, should the rate not hold)."""
+        rate = self.policy.reuse_contraction
+        if not rate or self.contraction > rate:
+            return False
+        r_tol, du_tol = self._tolerances(x)
+        per_iteration = np.log(max(self.contraction, 1e-12))
+        needed = max(np.log(min(du_tol / next_norm, 1.0)), np.log(min(r_tol / max(r, 1e-300), 1.0)))
+        return needed / per_iteration <= self.tol.max_iter - self.result.iterations - 2
 
     def _step_cap(self, x, dx) -> float:
         """The problem's safe fraction of ``dx`` (1 if it has no ``max_step``)."""
@@ -291,27 +364,43 @@ class _Attempt:
         _, du_tol = self._tolerances(x)
         return self.contraction * dx_norm <= du_tol
 
+    def _expects_reuse(self) -> bool:
+        """Whether the next step is expected to keep the factorised tangent (its trial's own
+        tangent unused): it is kept now, or the last step contracted enough (or was the first)."""
+        rate = self.policy.reuse_contraction
+        return bool(rate) and (self.stale or self.contraction <= rate or self.contraction == np.inf)
+
     def _damped_step(self, x, dx, dx_norm, r, first, lam):
-        """Accepted ``(x, R, ‖R‖, λ, next correction, fresh tangent?, tangent to factorise)`` or None.
+        """Accepted ``(x, R, ‖R‖, λ, next correction, fresh tangent?, tangent to factorise)``,
+        None, or :data:`_REFRESH` when a kept tangent's full step is refused.
 
         λ never exceeds the problem's safe fraction (:meth:`_step_cap`), nor does its floor."""
         pol = self.policy
         cap = self._step_cap(x, dx)
+        if self.stale and cap < 1.0:
+            return _REFRESH   # a kept tangent is not damped: a fresh one leads
         lam, floor = min(lam, cap), min(pol.lambda_min, cap)
         if floor <= 0.0:
             return None
         while lam >= floor:
             x_try = x + lam * dx
             J_try = None
-            if lam == 1.0 and pol.trial_tangent and not self._expects_convergence(x, dx_norm):
+            if (lam == 1.0 and pol.trial_tangent and not self._expects_reuse()
+                    and not self._expects_convergence(x, dx_norm)):
                 R_try, r_try, J_try = self._assemble(x_try)
             else:
                 R_try, r_try = self._residual(x_try)
             if not np.isfinite(r_try):
+                if self.stale:
+                    return _REFRESH
                 lam *= 0.25
                 continue
             dxbar = self.solver.solve(-R_try)
             bar = float(np.linalg.norm(dxbar))
+            if self.stale:   # a kept tangent's step stands only where it contracts as required
+                if bar <= pol.reuse_contraction * dx_norm:
+                    return x_try, R_try, r_try, lam, dxbar, False, None
+                return _REFRESH
             if bar <= (1.0 - 0.25 * lam) * dx_norm or (r_try < r and bar < dx_norm):
                 return x_try, R_try, r_try, lam, dxbar, False, J_try
             if lam == 1.0 and dx_norm <= pol.jump_ratio * first:
