@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -48,18 +49,29 @@ from drape.cli.common import (
 
 __all__ = ["main"]
 
-EPILOG = f"""\
+def _epilog() -> str:
+    """The rules a scan is measured by, and the exit codes."""
+    def block(text):
+        return textwrap.fill(" ".join(text.split()), 88, initial_indent="  ",
+                             subsequent_indent="  ")
+    refused = block(f"""
+        a surface mesh (triangles or quads) in metres, finite, the size of a drape (its extent
+        neither ten specimens nor a few stray vertices); triangles covering at least
+        {100 * MIN_AREA:g} % of the hanging annulus; a flat disc top at most
+        {100 * DISC_SMALLER:g} % smaller and {100 * DISC_LARGER:g} % larger than the stated disc
+        (unless the scan is flat to its edge); skirt in all but {360 * MISSING_REFUSED:g}° of
+        the directions round the disc; holes in its shadow under {HOLE_REFUSED:g} DC point; a
+        reach at most {100 * EXTENT_REFUSED:g} % past the stated specimen radius.""")
+    warned = block(f"""
+        skirt missing in a few directions; holes of {HOLE_WARNED:g} to {HOLE_REFUSED:g} DC
+        point (the DC with them filled is given); a reach {100 * EXTENT_SILENT:g} to
+        {100 * EXTENT_REFUSED:g} % past the specimen radius; a scan upside down (its flat disc
+        top at the bottom), measured turned over.""")
+    return f"""\
 what a scan must be (else it is refused in one line; the other scans are still measured):
-  a surface mesh (triangles or quads) in metres, finite, the size of a drape (its extent
-  neither ten specimens nor a few stray vertices); triangles covering at least {100 * MIN_AREA:g} % of
-  the hanging annulus; a flat disc top at most {100 * DISC_SMALLER:g} % smaller and {100 * DISC_LARGER:g} % larger than the
-  stated disc (unless the scan is flat to its edge); skirt in all but {360 * MISSING_REFUSED:g}° of the
-  directions round the disc; holes in its shadow under {HOLE_REFUSED:g} DC point; a reach at most
-  {100 * EXTENT_REFUSED:g} % past the stated specimen radius.
+{refused}
 measured with a warning line on stderr:
-  skirt missing in a few directions; holes of {HOLE_WARNED:g} to {HOLE_REFUSED:g} DC point (the DC with them
-  filled is given); a reach {100 * EXTENT_SILENT:g} to {100 * EXTENT_REFUSED:g} % past the specimen radius; a scan
-  upside down (its flat disc top at the bottom), measured turned over.
+{warned}
 
 exit codes:
   {EXIT_OK}    every scan measured
@@ -113,7 +125,7 @@ def _parser() -> argparse.ArgumentParser:
                     "metres, the disc's top near z = 0 and the skirt hanging towards -z; the "
                     "disc centre is found from the flat top unless --centre gives it. A length "
                     "is a number with a unit (30cm, '300 mm') or a bare number in metres.",
-        epilog=EPILOG)
+        epilog=_epilog())
     p.add_argument("scans", nargs="+", metavar="SCAN", help="surface mesh files")
     p.add_argument("--specimen", type=_arg_size("specimen diameter"), default=SPECIMEN_DIAMETER,
                    metavar="LENGTH", help="specimen diameter, e.g. 30cm, '300 mm', 0.3 (a bare "

@@ -135,8 +135,10 @@ def test_measure_answers_every_scan_and_option_in_one_line(
         assert abs(measured["drape_coefficient_percent"] - drape.dc_percent) <= DC_TOLERANCE
 
 
-@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
-@given(shape=drapes(), unit=st.sampled_from(list(UNITS)), fmt=st.sampled_from(["ply", "obj", "stl", "vtu"]),
+@settings(max_examples=12, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(shape=drapes(), unit=st.sampled_from(list(UNITS)),
+       fmt=st.sampled_from(["ply", "obj", "stl", "vtu"]),
        specimen=st.sampled_from(["30cm", "0.3", "300 mm", "0.3 m"]),
        disc=st.sampled_from(["18cm", "0.18", "180mm"]), shuffle=st.booleans(),
        seed=st.integers(0, 2**16))
