@@ -183,7 +183,7 @@ def test_base_case_must_be_kes_only_and_the_box_valid(model_scans, capsys, tmp_p
     assert "[material.kes]" in capsys.readouterr().err
     assert main([scan, "--base", str(CASE), "--free", "bending_length", "shear_G",
                  "--box", "shear_G=0.001,1", "--out", str(tmp_path / "b")]) == 2
-    assert "not a valid fabric" in capsys.readouterr().err
+    assert "shear_G must lie within 0.02..30" in capsys.readouterr().err
 
 
 def identify_command(scans, out: Path, *extra) -> list[str]:

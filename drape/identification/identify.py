@@ -4,12 +4,13 @@ outputs written.
 A definition (``DIR/identify.json``, :data:`DEFINITION`) holds the scans, the base case and its
 ``--set`` items, the free parameters and their box, the seeds, the budget and the libraries;
 ``python -m drape.identify`` (:mod:`drape.cli.identify`) makes it from its options.
-:func:`identify` writes into DIR ``identified.json``, ``material.toml``, ``report.html``, the
-forward runs (``runs/``) and the evaluation store (``evaluations.jsonl``, ``evaluations.csv``).
+:func:`identify` checks it (:func:`drape.identification.definition.check_definition`), reads
+the scans and checks the base case before DIR is made, then writes into DIR the definition,
+``identified.json``, ``material.toml``, ``report.html``, the forward runs (``runs/``) and the
+evaluation store (``evaluations.jsonl``, ``evaluations.csv``).
 """
 from __future__ import annotations
 
-import json
 import logging
 import os
 import sys
@@ -20,6 +21,7 @@ from tqdm import tqdm
 
 from drape.batch.sweep import open_client
 from drape.case.case import dump_case, load_case
+from drape.identification.definition import DEFINITION, check_definition, write_definition
 from drape.identification.forward import ForwardRuns
 from drape.identification.outputs import finish
 from drape.identification.parameters import full_point, overrides
@@ -30,9 +32,6 @@ from drape.identification.target import scan_drapes
 from drape.run.lock import folder_lock
 
 __all__ = ["DEFINITION", "check_setup", "quiet_dask", "identify"]
-
-#: The identification's definition in its folder, read back by ``--resume``.
-DEFINITION = "identify.json"
 
 
 def check_setup(definition: dict):
@@ -49,9 +48,9 @@ def check_setup(definition: dict):
     if case.case.analysis != "cusick" or case.material.kes is None:
         raise ValueError(f"--base {definition['base']}: needs a Cusick case with [material.kes] "
                          "(e.g. cases/cusick_kes.toml)")
-    weight = definition["weight"] or float(case.material.kes.weight)
-    base = list(definition["set"]) + ([f"material.kes.weight={weight:g}"]
-                                      if definition["weight"] else [])
+    given = definition["weight"] is not None
+    weight = definition["weight"] if given else float(case.material.kes.weight)
+    base = list(definition["set"]) + ([f"material.kes.weight={weight:g}"] if given else [])
     box = {k: tuple(v) for k, v in definition["box"].items()}
     for corner in design(box, 0):
         items = base + overrides(full_point(corner, list(box)), weight)
@@ -96,21 +95,26 @@ def identify(definition: dict, out, *, scheduler: str | None = None, workers: in
     drape.identification.search.OutOfReach
         The scans lie beyond what the model reaches over the box.
     ValueError
-        A scan, the base case or the box breaks a rule.
+        The definition, a scan, the base case or the box breaks a rule (nothing is written).
     """
     out = Path(out)
+    definition = check_definition(definition)
     t0 = time.perf_counter()
-    target, scans = scan_drapes(definition["scans"])
+    target, scans = scan_drapes(definition["scans"], scale=definition["scale"])
     read_s = time.perf_counter() - t0
+    for warning in (w for m in scans for w in m.warnings):
+        print(f"warning: {warning}", file=sys.stderr)
     base, weight, thickness, setup, box = check_setup(definition)
     out.mkdir(parents=True, exist_ok=True)
     with folder_lock(out):
-        (out / DEFINITION).write_text(json.dumps(definition, indent=1))
-        search = _search(definition, out, setup, box, target)
-        search.seconds["io"] += read_s
         quiet_dask()
         client, cluster = open_client(scheduler, workers)
         try:
+            # stored once the cluster is there: a scheduler that cannot be reached leaves no
+            # definition behind that a corrected command would have to --resume
+            write_definition(out, definition)
+            search = _search(definition, out, setup, box, target)
+            search.seconds["io"] += read_s
             n_workers = max(1, len(client.scheduler_info()["workers"]))
             forward = ForwardRuns(client, definition["base"], base, weight, definition["seeds"],
                                   out / "runs", setup)

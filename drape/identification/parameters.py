@@ -25,8 +25,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-__all__ = ["Parameter", "PARAMETERS", "REFERENCE_B", "DEFAULT_FREE", "parse_box", "full_point", "kes_values",
-           "overrides"]
+__all__ = ["Parameter", "PARAMETERS", "REFERENCE_B", "DEFAULT_FREE", "parse_box", "check_box",
+           "full_point", "kes_values", "overrides"]
 
 
 @dataclass(frozen=True)
@@ -44,6 +44,9 @@ class Parameter:
     fixed : float or None
         Its value when not freed (None: the base case's own).
     what : str
+    limits : tuple of float
+        The widest box ``--box`` may give it: past them no fabric hangs in a Cusick tester
+        (or the KES sheet's plausible range ends).
     """
 
     name: str
@@ -52,16 +55,21 @@ class Parameter:
     high: float
     fixed: float | None
     what: str
+    limits: tuple = (0.0, math.inf)
 
 
 #: The parameters by ``--free`` key. The default box of c spans drape coefficients of about
-#: 12 to 95 % (apparel fabrics hang between); 2HB/B spans typical woven fabrics.
+#: 12 to 95 % (apparel fabrics hang between); 2HB/B spans typical woven fabrics. Their limits
+#: lie a decade or so beyond (G's are the KES sheet's plausible range).
 PARAMETERS: dict[str, Parameter] = {p.name: p for p in (
-    Parameter("bending_length", "cm", 0.6, 3.0, None, "c = (B/W)^(1/3), B = √(B_warp B_weft)"),
-    Parameter("hysteresis", "1/cm", 0.25, 1.5, 0.5, "2HB/B, the bending hysteresis per rigidity"),
-    Parameter("anisotropy", "1", 0.4, 2.5, 1.0, "B_warp / B_weft"),
-    Parameter("face_down", "1", 0.5, 2.0, 1.0, "k1_neg / k1, face-down against face-up rigidity"),
-    Parameter("shear_G", "gf/(cm·deg)", 0.3, 3.0, None, "KES shear rigidity G"),
+    Parameter("bending_length", "cm", 0.6, 3.0, None, "c = (B/W)^(1/3), B = √(B_warp B_weft)",
+              (0.1, 20.0)),
+    Parameter("hysteresis", "1/cm", 0.25, 1.5, 0.5, "2HB/B, the bending hysteresis per rigidity",
+              (0.01, 20.0)),
+    Parameter("anisotropy", "1", 0.4, 2.5, 1.0, "B_warp / B_weft", (0.05, 20.0)),
+    Parameter("face_down", "1", 0.5, 2.0, 1.0, "k1_neg / k1, face-down against face-up rigidity",
+              (0.1, 10.0)),
+    Parameter("shear_G", "gf/(cm·deg)", 0.3, 3.0, None, "KES shear rigidity G", (0.02, 30.0)),
 )}
 
 #: B (gf·cm²/cm) of the reference fabric a run's KES values describe before bending_scale.
@@ -80,6 +88,10 @@ def parse_box(items, free) -> dict[str, tuple[float, float]]:
     Traceback (most recent call last):
     ...
     ValueError: --box hysteresis=2,1: need 0 < LOW < HIGH
+    >>> parse_box(["bending_length=0.01,3"], ["bending_length"])
+    Traceback (most recent call last):
+    ...
+    ValueError: --box bending_length=0.01,3: bending_length must lie within 0.1..20 cm
     """
     box = {k: (PARAMETERS[k].low, PARAMETERS[k].high) for k in free}
     for item in items or []:
@@ -90,10 +102,39 @@ def parse_box(items, free) -> dict[str, tuple[float, float]]:
             low, high = (float(v) for v in text.split(","))
         except ValueError:
             raise ValueError(f"--box {item}: give KEY=LOW,HIGH (two numbers)") from None
-        if not 0 < low < high:
-            raise ValueError(f"--box {item}: need 0 < LOW < HIGH")
-        box[key] = (low, high)
+        box[key] = _checked_range(key, low, high, f"--box {item}")
     return box
+
+
+def _checked_range(key: str, low: float, high: float, what: str) -> tuple[float, float]:
+    """``(low, high)`` if it is a range within the parameter's limits; else ValueError."""
+    p = PARAMETERS[key]
+    if not 0 < low < high:
+        raise ValueError(f"{what}: need 0 < LOW < HIGH")
+    if not p.limits[0] <= low < high <= p.limits[1]:
+        raise ValueError(f"{what}: {key} must lie within {p.limits[0]:g}..{p.limits[1]:g} {p.unit}")
+    return low, high
+
+
+def check_box(box, free) -> dict[str, tuple[float, float]]:
+    """A stored box checked: a range within its limits for every free parameter, no other.
+
+    >>> check_box({"bending_length": [1, 3]}, ["bending_length"])
+    {'bending_length': (1.0, 3.0)}
+    """
+    if not isinstance(box, dict) or set(box) != set(free):
+        raise ValueError(f"--box: a range for each free parameter ({', '.join(free)}), no other")
+    checked = {}
+    for key in free:
+        value = box[key]
+        try:
+            if not isinstance(value, (list, tuple)) or len(value) != 2:
+                raise TypeError
+            low, high = (float(v) for v in value)
+        except (TypeError, ValueError):
+            raise ValueError(f"--box {key}={value!r}: give KEY=LOW,HIGH (two numbers)") from None
+        checked[key] = _checked_range(key, low, high, f"--box {key}={low:g},{high:g}")
+    return checked
 
 
 def full_point(point: dict, free) -> dict:
