@@ -151,6 +151,8 @@ def _resumed(given: dict, out: Path) -> dict:
     """The stored definition of ``out``, with the options given: the budget, or corrections of
     a definition that cannot be used as stored."""
     stored, problem = read_definition(out)
+    if problem is None:
+        problem = _folder_problem(stored, out)
     path = out / DEFINITION
     box = given.pop("box", None)
     if problem is None:
@@ -192,6 +194,16 @@ def _check_folders(definition: dict, out: Path) -> None:
     if Path(library) == Path(BUNDLED_LIBRARY).resolve():
         raise ValueError(f"--library {library}: the bundled library is read only")
     writable_folder(library, "--library")
+
+
+def _folder_problem(definition: dict, out: Path) -> str | None:
+    """What :func:`_check_folders` finds wrong with a stored definition's folders (a library
+    that has become a file can be given anew with --resume), or None."""
+    try:
+        _check_folders(definition, out)
+    except (OSError, ValueError) as exc:
+        return describe(exc)
+    return None
 
 
 def _identify(args, out: Path) -> int:

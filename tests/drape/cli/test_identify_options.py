@@ -174,3 +174,15 @@ def test_an_unreadable_definition_is_replaced_by_the_options(scan, tmp_path, cap
     code, err = _run(["--resume", *_start(scan, out)], capsys)
     assert code == 130, err
     assert json.loads((out / DEFINITION).read_text())["base"] == str(CASE.resolve())
+
+
+def test_a_library_that_became_a_file_is_given_anew_with_resume(scan, tmp_path, capsys, no_runs):
+    out, library = tmp_path / "id", tmp_path / "lib"
+    assert _run(_start(scan, out, "--library", library), capsys)[0] == 130
+    assert not library.exists()        # made when the first evaluation is added to it
+    library.write_text("x")
+    code, err = _run(["--resume", "--out", out], capsys)
+    assert code == 4 and err == [f"error: --library {library}: a file is in the way, not a folder"]
+    code, err = _run(["--resume", "--out", out, "--library", tmp_path / "lib2"], capsys)
+    assert code == 130, err
+    assert json.loads((out / DEFINITION).read_text())["library"] == str(tmp_path / "lib2")
