@@ -45,8 +45,8 @@ def main(argv=None) -> int:
     args = p.parse_args(argv)
     rows = describe_scans(args.npz)
     for r in rows:
-        if r["error"]:
-            print(f"{r['key']}: {r['error']}", file=sys.stderr)
+        if r["error"] or r["warning"]:
+            print(f"{r['key']}: {r['error'] or 'warning: ' + r['warning']}", file=sys.stderr)
     tables = fabric_tables(rows)
     write_tables(args.out, rows, tables)
     print(format_tables(tables))

@@ -37,7 +37,7 @@ SCAN_KEY = re.compile(r"fabric(?P<fabric>\d+)_sample(?P<sample>\d+)"
 #: Columns of ``scans.csv``.
 SCAN_COLUMNS = ["key", "fabric", "sample", "series", "number", "dc_percent", "nodes", "depth_mm",
                 "irregularity_mm", "centre_x_mm", "centre_y_mm",
-                *(f"a{k}_mm" for k in range(N_HARMONICS + 1)), "error"]
+                *(f"a{k}_mm" for k in range(N_HARMONICS + 1)), "error", "warning"]
 #: Statistics of a group of scans (``fabrics.csv``, ``creep.csv``).
 SUMMARY_COLUMNS = ["scans", "dc_mean", "dc_std", "dc_min", "dc_max",
                    "nodes_min", "nodes_max", "nodes_mode", "nodes_mean", "irregularity_mm"]
@@ -70,8 +70,9 @@ def describe_scan(data, key: str, unit: float) -> dict:
     -------
     dict
         Key, fabric, sample, series and its number, DC %, nodes, mean fold depth, outline
-        irregularity (mm), the centre used and the harmonic amplitudes ``a0_mm`` ..; or the
-        key's parts and ``error``, the reason the scan could not be read.
+        irregularity (mm), the centre used, the harmonic amplitudes ``a0_mm`` .. and
+        ``warning``, what it was measured in spite of (``; ``-separated); or the key's parts
+        and ``error``, the reason the scan could not be read as a drape.
     """
     match = SCAN_KEY.match(key)
     row = {"key": key, "fabric": int(match["fabric"]) if match else "",
@@ -83,7 +84,7 @@ def describe_scan(data, key: str, unit: float) -> dict:
     try:
         m = measure_surface(points, faces, SPECIMEN_DIAMETER / 2, DISC_DIAMETER / 2, name=key)
     except ScanError as exc:
-        return {**row, "error": str(exc)}
+        return {**row, "error": str(exc), "warning": ""}
     s = m.result.summary()
     row.update(dc_percent=round(s["drape_coefficient_percent"], 3), nodes=s["n_nodes"],
                depth_mm=round(1e3 * s["node_depth_mean_m"], 3),
@@ -91,7 +92,7 @@ def describe_scan(data, key: str, unit: float) -> dict:
                centre_x_mm=round(1e3 * m.result.centre[0], 3),
                centre_y_mm=round(1e3 * m.result.centre[1], 3))
     row.update({f"a{k}_mm": round(1e3 * a, 4) for k, a in enumerate(s["outline_harmonics_m"])})
-    return {**row, "error": ""}
+    return {**row, "error": "", "warning": "; ".join(m.warnings)}
 
 
 def describe_scans(path) -> list[dict]:

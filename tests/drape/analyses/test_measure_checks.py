@@ -15,6 +15,7 @@ import pytest
 from drape.analyses.scan import ScanError
 from drape.analyses.scan_checks import hole_points, skirt_directions
 from drape.analyses.scan_measure import check_sizes, measure_surface
+from drape.analyses.scan_set import describe_scans
 
 R, RD = 0.15, 0.09
 CENTRE = (0.004, -0.003)
@@ -169,3 +170,17 @@ def test_a_given_centre_outside_the_scan_is_refused(drape):
 def test_sizes_no_cusick_tester_has_are_refused(specimen, disc, words):
     with pytest.raises(ScanError, match=re.escape(words)):
         check_sizes(specimen / 2, disc / 2)
+
+
+def test_a_scan_set_keeps_each_scans_warning(tmp_path, drape_surface):
+    """In scans.csv's rows: a scan measured upside down says so, a whole one says nothing."""
+    unit = 1e-5
+    arrays = {"vertex_unit_m": np.array(unit)}
+    for key, z in (("fabric01_sample01", 1.0), ("fabric01_sample02", -1.0)):
+        d = drape_surface(n_sectors=120, n_rings=3)
+        arrays[f"{key}/vertices"] = np.round(d.points * [1, 1, z] / unit).astype(np.int16)
+        arrays[f"{key}/faces"] = d.triangles.astype(np.uint16)
+    np.savez(tmp_path / "scans.npz", **arrays)
+    whole, turned = describe_scans(tmp_path / "scans.npz")
+    assert (whole["error"], whole["warning"]) == ("", "")
+    assert turned["error"] == "" and turned["warning"].startswith("upside down")
