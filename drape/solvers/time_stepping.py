@@ -55,6 +55,7 @@ True
 """
 from __future__ import annotations
 
+import dataclasses
 from contextlib import contextmanager
 
 import numpy as np
@@ -118,7 +119,11 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
     exceeds it is redone shorter). Steps are shortened to land exactly on
     ``hit_times``. One :class:`drape.solvers.linear.DirectSolver` serves every step. Each step's
     ``info.control`` is where the step control stands after it; ``control``
-    starts from there instead of from ``dt``.
+    starts from there instead of from ``dt``. The policy's kept tangents
+    (``reuse_contraction``) serve steps of ``dt`` and longer only: a step cut shorter takes a
+    fresh tangent at every iteration, since where steps fail (a skirt folding as it falls) a
+    kept tangent contracts too little to save work, and the path through that stretch stays
+    Newton's.
 
     Raises
     ------
@@ -141,6 +146,8 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
         raise IntegratorInputError(f"t_end must be > the start time {state.t}, got {t_end!r}")
     solver = default_solver(model) if linear_solver is None else linear_solver
     restrict = _Restrictions(solver)
+    policy = NewtonPolicy() if policy is None else policy
+    fresh = dataclasses.replace(policy, reuse_contraction=0.0)   # for steps cut below dt
     size = _StepSize(dt, dt_max, max_cuts, grow_after, error_tolerance, control)
     eps = 1e-12 * max(abs(t_end), dt)
     hits = sorted(float(t) for t in hit_times if state.t + eps < t <= t_end - eps)
@@ -157,7 +164,8 @@ def integrate(model, t_end: float, dt: float, state: NewmarkState | None = None,
                 h = limit - state.t
             problem = _StepProblem(model, state, h, coefficients, restrict)
             try:
-                new, info = _solve_step(problem, predictor, tol, policy, solver, fallbacks=not size.can_cut())
+                new, info = _solve_step(problem, predictor, tol, fresh if size.h < dt * (1 - 1e-12) else policy,
+                                        solver, fallbacks=not size.can_cut())
             except ConvergenceError as err:
                 cuts += 1
                 spent.append(err.info)
