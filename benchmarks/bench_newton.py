@@ -4,7 +4,7 @@ Integrates ``cases/cusick_fabric1.toml`` to ``--start`` once, then the window up
 once per variant, from the same state, and prints steps, Newton iterations, force evaluations,
 factorisations, failed attempts and wall time. A variant is a comma-separated list of
 ``key=value`` for :func:`drape.solvers.time_stepping.integrate` (``predictor``, ``error_tolerance``) or
-:class:`drape.solvers.newton.NewtonPolicy` (``lambda_min``, ``jump_ratio``, ``kink_steps``,
+:class:`drape.solvers.newton.NewtonPolicy` (``lambda_min``, ``jump_ratio``, ``kink_steps``, ``reuse_contraction``,
 ``kink_growth``)::
 
     python benchmarks/bench_newton.py --start 0.1 --end 0.2 \\
@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-POLICY_KEYS = ("lambda_min", "jump_ratio", "kink_steps", "kink_growth", "trial_tangent")
+POLICY_KEYS = ("lambda_min", "jump_ratio", "kink_steps", "kink_growth", "trial_tangent", "reuse_contraction")
 
 
 def parse_variant(text: str) -> dict:

@@ -60,7 +60,12 @@ print(json.dumps(failed))
 """
 
 
+@pytest.mark.slow
 def test_every_module_imports_on_its_own():
+    """Each module imported alone, in a fresh interpreter state (minutes: every module loads
+    what it imports anew). The fast tier has the import graph's cycles
+    (:func:`test_the_import_graph_has_no_cycle`) and imports every module once, collecting
+    the doctests."""
     names = modules()
     assert len(names) > 80
     out = run_python(_EACH_ALONE, *names)
@@ -184,6 +189,111 @@ def test_the_import_reader_sees_every_kind_of_import(tmp_path):
     assert imports(path, "pkg.sub") == [("argparse", False, False), ("pkg.sub", False, False),
                                          ("pkg.up", False, False), ("drape.case", True, False),
                                          ("drape.cli", False, True)]
+
+
+def _is_type_checking(node) -> bool:
+    """``if TYPE_CHECKING:``: imports for annotations only, never run."""
+    return isinstance(node, ast.If) and ast.unparse(node.test) in ("TYPE_CHECKING",
+                                                                   "typing.TYPE_CHECKING")
+
+
+def import_graph(root=ROOT) -> dict[str, set[str]]:
+    """{module: the project modules its import imports} for every module of the project under
+    ``root`` (``__main__`` files left out: they are run, never imported). An edge is an import
+    that runs when the module is imported: outside functions, ``if TYPE_CHECKING:`` and the
+    ``__main__`` guard; ``from p import name`` leads to ``p.name`` when that is a module, else to
+    ``p``. Importing ``a.b.c`` first runs the ``__init__`` of ``a`` and ``a.b``, so an import
+    also leads to each package the imported module lies in that does not hold the importer."""
+    files = {name: path for name, path in source_files(root=root).items()
+             if not name.endswith("__main__")}
+    graph = {}
+    for name, path in files.items():
+        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        imported = set()
+
+        def visit(node):
+            for child in ast.iter_child_nodes(node):
+                if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
+                    continue
+                if _is_main_guard(child) or _is_type_checking(child):
+                    for statement in child.orelse:
+                        visit(ast.Module([statement], []))
+                elif isinstance(child, ast.Import):
+                    imported.update(alias.name for alias in child.names)
+                elif isinstance(child, ast.ImportFrom):
+                    parts = package.split(".")[:len(package.split(".")) + 1 - child.level]
+                    base = child.module if not child.level else ".".join(
+                        parts + ([child.module] if child.module else []))
+                    imported.update(f"{base}.{a.name}" if f"{base}.{a.name}" in files else base
+                                    for a in child.names)
+                else:
+                    visit(child)
+
+        visit(ast.parse(path.read_text()))
+        edges = set()
+        for module in imported:
+            if module.split(".")[0] in PACKAGES:
+                parts = module.split(".")
+                edges.update(".".join(parts[:i]) for i in range(1, len(parts) + 1))
+        graph[name] = {m for m in edges if m != name and not under(name, m)}
+    return graph
+
+
+def cycle(graph) -> list[str]:
+    """One cycle of ``graph`` as the modules along it (the first again at the end), or []."""
+    state, path = {}, []
+
+    def visit(node):
+        state[node] = "open"
+        path.append(node)
+        for nxt in sorted(graph.get(node, ())):
+            if state.get(nxt) == "open":
+                return path[path.index(nxt):] + [nxt]
+            if nxt not in state and (found := visit(nxt)):
+                return found
+        state[node] = "done"
+        path.pop()
+        return []
+
+    for node in sorted(graph):
+        if node not in state and (found := visit(node)):
+            return found
+    return []
+
+
+def test_the_import_graph_has_no_cycle():
+    """A cycle of module-level imports breaks the import of whichever of its modules comes
+    first (a partly initialised module); a package's ``__init__`` counts as the package."""
+    graph = import_graph()
+    assert set(graph) == set(modules())
+    assert "drape.models.shell" in graph["drape.case.build"]
+    assert "drape.solvers.newmark" not in graph["drape.solvers.step_control"]   # TYPE_CHECKING
+    assert cycle(graph) == []
+
+
+def test_the_import_graph_finds_a_cycle_through_a_package_init(tmp_path):
+    pkg = tmp_path / "meshes"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("from meshes.a import A\n")
+    (pkg / "a.py").write_text("from . import b\nA = 1\n")
+    (pkg / "b.py").write_text("import numpy\nfrom typing import TYPE_CHECKING\n"
+                              "if TYPE_CHECKING:\n    from meshes.a import A\n"
+                              "def f():\n    from meshes import a\n")
+    (pkg / "c.py").write_text("from meshes.sub.d import D\n")
+    (pkg / "sub").mkdir()
+    (pkg / "sub" / "__init__.py").write_text("from .d import D\n")
+    (pkg / "sub" / "d.py").write_text("D = 1\n")
+    graph = import_graph(tmp_path)
+    assert graph == {"meshes": {"meshes.a"}, "meshes.a": {"meshes.b"}, "meshes.b": set(),
+                     "meshes.c": {"meshes.sub", "meshes.sub.d"}, "meshes.sub": {"meshes.sub.d"},
+                     "meshes.sub.d": set()}
+    assert cycle(graph) == []
+    (pkg / "sub" / "d.py").write_text("from meshes.c import C\nD = 1\n")   # c -> sub -> d -> c
+    assert cycle(import_graph(tmp_path)) == ["meshes.c", "meshes.sub", "meshes.sub.d", "meshes.c"]
+    (pkg / "sub" / "d.py").write_text("import meshes.a\nD = 1\n")
+    (pkg / "a.py").write_text("from meshes.sub import d\nA = 1\n")
+    # a -> sub.d (and the package sub, whose __init__ imports d) -> a
+    assert cycle(import_graph(tmp_path)) == ["meshes.a", "meshes.sub", "meshes.sub.d", "meshes.a"]
 
 
 def test_no_argparse_outside_the_command_line():

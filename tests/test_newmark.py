@@ -216,6 +216,48 @@ def test_kept_tangents_follow_the_same_path_with_fewer_factorisations():
     assert f_kept < 0.5 * f_newton
 
 
+class ShortStepsOnly:
+    """A model whose steps longer than ``longest`` fail (a NaN force), wrapping another."""
+
+    def __init__(self, model, longest):
+        self.model, self.longest, self.t_last = model, longest, 0.0
+
+    def __getattr__(self, name):
+        return getattr(self.model, name)
+
+    def evaluate(self, u, v, a, t, tangent=None, weights=None):
+        ev = self.model.evaluate(u, v, a, t, tangent, weights)
+        if t - self.t_last > self.longest * (1 + 1e-9):
+            ev.force[:] = np.nan
+        return ev
+
+    def commit(self, u, v, a):
+        self.model.commit(u, v, a)
+        self.t_last = self.model.load_time
+
+
+@pytest.mark.parametrize("longest, same", [(0.6, True), (2.0, False)])
+def test_cut_steps_take_a_fresh_tangent_every_iteration(longest, same):
+    """Kept tangents serve steps of ``dt`` only: where every step is cut below ``dt`` the run
+    with ``reuse_contraction`` follows plain Newton's path to the bit; where steps of ``dt``
+    converge, it does not (it keeps tangents there)."""
+    from constitutive.friction import FrictionParams
+    from drape.solvers.newton import NewtonPolicy
+
+    dt = PERIOD / 20
+    runs = []
+    for policy in (NewtonPolicy(), NewtonPolicy(reuse_contraction=0.5)):
+        plate = linear_cantilever(law={"k3": 1e-8, "friction": FrictionParams(2e-4, 1e-4, 50.0, 0.5)})
+        state = released(plate)
+        model = ShortStepsOnly(plate, longest * dt)
+        steps = []
+        s = integrate(model, PERIOD / 2, dt, state, policy=policy, rtol=1e-10, du_rtol=1e-10,
+                      on_step=lambda s, i: steps.append(i.dt))
+        runs.append((s.u, steps))
+    assert all(h < dt for h in runs[0][1]) == same
+    assert np.array_equal(runs[0][0], runs[1][0]) == same
+
+
 def test_auto_predictor_falls_back_only_to_a_start_near_balance():
     """A Newton budget of one iteration fails every start of a stiff cubic oscillator; "auto"
     starts from u₁ = u₀ and tries constant acceleration after it only when that start's

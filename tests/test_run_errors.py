@@ -276,8 +276,8 @@ def test_help_prints_the_exit_code_table(capsys):
         assert code in out
 
 
-def test_the_readme_has_the_exit_code_table():
-    assert cli.EXIT_CODES in (ROOT / "README.md").read_text()
+def test_the_user_guide_has_the_exit_code_table():
+    assert cli.EXIT_CODES in (ROOT / "docs" / "guide" / "run.md").read_text()
 
 
 def test_a_cold_kernel_cache_is_announced(capsys, monkeypatch):
