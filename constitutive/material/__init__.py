@@ -13,9 +13,10 @@ Defaults (documented, overridable in the file):
 * membrane (woven fabric: stiff along the yarns, soft in shear):
   ``E11 = E22 = 1.0e4 N/m``, ``ν12 = 0``, ``G12 = 50 N/m``, where neither the
   ``[kes]`` sheet values (G, EMT, LT, WT, E; :mod:`constitutive.kes_sheet`) nor the
-  ``[membrane]`` table (N/m) give them. ``FabricMaterial.membrane_source`` says which.
-  E11 and E22 that are not given as numbers keep their tensile curve
-  (:attr:`FabricMaterial.tensile`: the sheet's, else
+  ``[membrane]`` table (N/m; :class:`MembraneSpec`) give them. ``FabricMaterial.membrane_source``
+  says which. E11 and E22 that are not given as numbers keep their tensile curve
+  (:attr:`FabricMaterial.tensile`: the sheet's, or ``[membrane.tensile_warp]`` /
+  ``[membrane.tensile_weft]`` (:class:`TensileSpec`, a curve in a file without a sheet), else
   :data:`constitutive.tensile.DEFAULT_TENSILE`, whose energy-storing stiffness is the
   1.0e4 N/m), and :meth:`FabricMaterial.at_tension` takes them at a drape's tension.
 
@@ -63,8 +64,9 @@ from constitutive.material.fabric import DEFAULT_MEMBRANE, FabricMaterial, Mater
 from constitutive.material.from_kes import material_from_kes
 from constitutive.material.kes_sheet import KesSpec, sheet_field
 from constitutive.material.library import available_materials, load_material
-from constitutive.material.spec import KesFabricSpec, LawSpec, MaterialSpec, MembraneSpec, material_from_spec
+from constitutive.material.spec import (KesFabricSpec, LawSpec, MaterialSpec, MembraneSpec, TensileSpec,
+                                        material_from_spec)
 
 __all__ = ["MaterialError", "FabricMaterial", "DEFAULT_MEMBRANE", "load_material", "available_materials",
-           "material_from_kes", "material_from_spec", "MaterialSpec", "LawSpec", "MembraneSpec",
+           "material_from_kes", "material_from_spec", "MaterialSpec", "LawSpec", "MembraneSpec", "TensileSpec",
            "KesSpec", "KesFabricSpec", "sheet_field"]

@@ -9,10 +9,10 @@ from constitutive.law import BendingLaw
 from constitutive.material.fabric import DEFAULT_MEMBRANE, FabricMaterial, MaterialError
 from constitutive.material.from_kes import material_from_kes
 from constitutive.material.kes_sheet import KesSpec, sheet_field
-from constitutive.tensile import DEFAULT_TENSILE
+from constitutive.tensile import DEFAULT_TENSILE, MAX_LOAD, TensileCurve
 from constitutive.units import to_si
 
-__all__ = ['LawSpec', 'MembraneSpec', 'MaterialSpec', 'KesFabricSpec', 'material_from_spec']
+__all__ = ['LawSpec', 'TensileSpec', 'MembraneSpec', 'MaterialSpec', 'KesFabricSpec', 'material_from_spec']
 
 
 class _Strict(BaseModel):
@@ -54,14 +54,60 @@ class LawSpec(_Strict):
         return BendingLaw(friction=fric, **si)
 
 
+class TensileSpec(_Strict):
+    """A ``[membrane.tensile_warp]`` or ``[membrane.tensile_weft]`` table: the tensile curve of
+    one direction (:class:`constitutive.tensile.TensileCurve`), for a file without the
+    ``[kes]`` tensile values that would give it (a law-table file)."""
+
+    strain_at_max: float = Field(gt=0, description="εm = EMT/100, the strain at the maximum load [1].")
+    linearity: float = Field(gt=0, lt=2, description="LT, 0 < LT < 2 (below 1: a woven's J-shape) [1].")
+    max_load: float = Field(MAX_LOAD, gt=0, description="Fm, the test's maximum load [N/m] "
+                                                        "(default the KES-FB1 500 gf/cm).")
+
+    def curve(self) -> TensileCurve:
+        return TensileCurve(self.strain_at_max, self.linearity, self.max_load)
+
+
+#: Direction of each tensile table of ``[membrane]`` and the stiffness it gives.
+_TENSILE_TABLES = {"tensile_warp": "E11", "tensile_weft": "E22"}
+
+
 class MembraneSpec(_Strict):
     """A ``[membrane]`` table (N/m); keys not given come from the ``[kes]`` sheet values (G,
-    EMT, LT, WT, E) if any, else :data:`DEFAULT_MEMBRANE`."""
+    EMT, LT, WT, E) if any, else :data:`DEFAULT_MEMBRANE`.
+
+    ``E11`` / ``E22`` give a direction's stiffness as a number; ``[membrane.tensile_warp]`` /
+    ``[membrane.tensile_weft]`` give it as a tensile curve instead (:class:`TensileSpec`),
+    which a drape case takes at its specimen's tension (``[model] membrane_tension``) as it
+    does a ``[kes]`` sheet's curve. ``G12`` is the in-plane shear stiffness (engineering shear
+    strain, per radian): a law-table file's only way to give a shear other than the default.
+    """
 
     E11: float | None = Field(None, gt=0)
     E22: float | None = Field(None, gt=0)
     nu12: float | None = Field(None, ge=0, lt=1)
     G12: float | None = Field(None, gt=0)
+    tensile_warp: TensileSpec | None = None
+    tensile_weft: TensileSpec | None = None
+
+    @model_validator(mode="after")
+    def _number_or_curve(self):
+        for table, key in _TENSILE_TABLES.items():
+            if getattr(self, table) is not None and getattr(self, key) is not None:
+                raise ValueError(f"@.{key} and [@.{table}] both give {key}: keep one")
+        return self
+
+    def curves(self) -> dict:
+        """``{"E11" | "E22": TensileCurve}`` of the tensile tables given."""
+        return {key: getattr(self, table).curve() for table, key in _TENSILE_TABLES.items()
+                if getattr(self, table) is not None}
+
+    def stiffnesses(self) -> dict:
+        """E11, E22, nu12, G12 [N/m] given, a curve's as its secant (the stiffness storing its
+        energy, as for a sheet's curve)."""
+        values = self.model_dump(exclude_none=True, exclude=set(_TENSILE_TABLES))
+        values.update({key: curve.secant for key, curve in self.curves().items()})
+        return values
 
 
 class MaterialSpec(_Strict):
@@ -87,9 +133,13 @@ class MaterialSpec(_Strict):
         if self.kes is not None and self.kes.B_bias is not None and self.twist_rigidity is not None:
             raise ValueError("twist_rigidity and kes.B_bias are both given: keep one")
         if self.kes is not None:
+            given = self.membrane.stiffnesses()
+            tables = {key: table for table, key in _TENSILE_TABLES.items()}
             for key in self.kes.membrane()[0]:
-                if getattr(self.membrane, key) is not None:
-                    raise ValueError(f"membrane.{key} and the [kes] values that build it are both "
+                if key in given:
+                    where = (f"[membrane.{tables[key]}]" if getattr(self.membrane, key) is None
+                             else f"membrane.{key}")
+                    raise ValueError(f"{where} and the [kes] values that build it are both "
                                      "given: keep one")
         return self
 
@@ -97,8 +147,11 @@ class MaterialSpec(_Strict):
         """E11, E22, nu12, G12 [N/m] and where each comes from: the ``[kes]`` sheet, the
         ``[membrane]`` table, or the default."""
         values, sources = dict(DEFAULT_MEMBRANE), dict.fromkeys(DEFAULT_MEMBRANE, "default")
-        for key, value in self.membrane.model_dump(exclude_none=True).items():
-            values[key], sources[key] = value, "material file [membrane]"
+        curves = self.membrane.curves()
+        for key, value in self.membrane.stiffnesses().items():
+            values[key] = value
+            sources[key] = (f"material file [membrane] {curves[key].describe()}" if key in curves
+                            else "material file [membrane]")
         if self.kes is not None:
             sheet, why = self.kes.membrane()
             values.update(sheet)
@@ -118,9 +171,10 @@ class MaterialSpec(_Strict):
 
     def tensile_curves(self) -> dict:
         """The tensile curve behind E11 and E22 where no number gives them: the ``[kes]``
-        sheet's, else (where the stiffness is the default) :data:`constitutive.tensile.DEFAULT_TENSILE`,
+        sheet's or the ``[membrane]`` tensile table's, else (where the stiffness is the default) :data:`constitutive.tensile.DEFAULT_TENSILE`,
         whose linear stiffness storing the energy is the default 10⁴ N/m."""
         sheet = {} if self.kes is None else {k: c for k, (c, _) in self.kes.tensile_curves().items()}
+        sheet.update(self.membrane.curves())
         sources = self.membrane_values()[1]
         return {key: sheet.get(key, DEFAULT_TENSILE) for key in ("E11", "E22")
                 if key in sheet or sources[key] == "default"}

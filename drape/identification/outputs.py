@@ -1,6 +1,10 @@
 """What an identification leaves in DIR: the identified point run once more, ``identified.json``,
 ``material.toml`` and ``report.html``.
 
+``material.toml`` holds the whole material of the point's runs, the base case's part of it
+(its G, thickness, ...) included: given as the base case's ``[material] path``, it builds the
+material the runs built (:mod:`drape.identification.material_file`).
+
 The identified point is the surrogate's (:meth:`drape.identification.surrogate.Surrogate.identified`;
 not the best evaluation, whose misfit carries its seeds' luck); it is run under the same seeds as every point, and its drapes are the
 simulated ones the report sets beside the scans and the prediction a validation compares.
@@ -21,7 +25,7 @@ from drape.identification.report import simulated_measurements, write_report
 from drape.identification.store import Evaluation, append_evaluation, read_evaluations
 from drape.identification.surrogate import WITHIN, Surrogate
 
-__all__ = ["FINAL", "INTERVAL_RULE", "MATCHED_Z", "finish"]
+__all__ = ["FINAL", "INTERVAL_RULE", "MATCHED_Z", "finish", "material_file"]
 
 #: ``|z_DC|`` up to which the identified point's drapes count as matching the scans' DC.
 MATCHED_Z = 2.0
@@ -71,9 +75,8 @@ def finish(search, found: dict, forward, scans, weight: float, thickness, defini
     answer = found["answer"]
     point = final.point
     m = misfit(search.target, final.drapes)
-    material = write_material(search.out / "material.toml", "identified", point, weight,
-                              thickness, answer["intervals"], len(search.target),
-                              built=_built(definition, point, weight))
+    material = material_file(search.out / "material.toml", definition, point, weight, thickness,
+                             answer["intervals"], len(search.target))
     forward_cpu = sum(e.wall_time_s for e in read_evaluations(search.out))
     result = {
         "parameters": answer["point"], "intervals": answer["intervals"],
@@ -112,10 +115,27 @@ def finish(search, found: dict, forward, scans, weight: float, thickness, defini
     return result
 
 
+def _run_case(definition: dict, point: dict, weight: float):
+    """The case a run of ``point`` loads: the base case, the definition's ``--set`` items, the
+    weight and the point's overrides."""
+    items = list(definition["set"]) + [f"material.kes.weight={weight:g}"] + overrides(point, weight)
+    return load_case(definition["base"], items)
+
+
+def material_file(path, definition: dict, point: dict, weight: float, thickness,
+                  intervals: dict, scans: int):
+    """Write ``material.toml`` of ``point``: the whole material of its runs (the base case's
+    G, thickness, ... and the definition's ``--set`` items on the material included), so that
+    given as the base case's ``[material] path`` it builds what :func:`_built` builds
+    (:func:`drape.identification.material_file.write_material`)."""
+    run = _run_case(definition, point, weight)
+    return write_material(path, "identified", point, weight, thickness, intervals, scans,
+                          built=build_material(run), case=run, base=definition["base"])
+
+
 def _built(definition: dict, point: dict, weight: float):
     """The material a run of ``point`` builds (SI)."""
-    items = list(definition["set"]) + [f"material.kes.weight={weight:g}"] + overrides(point, weight)
-    return build_material(load_case(definition["base"], items))
+    return build_material(_run_case(definition, point, weight))
 
 
 def _refit(search, found: dict):
