@@ -10,10 +10,10 @@ set-up of ``--case`` as it loads now (its fingerprint: the resolved case at its 
 descriptors; run folders become names), and appends those whose point the bundle lacks.
 ``--from-setup OLD`` takes instead those stored under an earlier fingerprint of the same case
 and stamps them with today's: for runs made before a change that left the forward runs as
-they were (a new case key at its default). ``tests/test_identify.py`` checks that every bundled
-evaluation carries the fingerprint of a bundled case as it loads now, so a change of the case
-that would make the runs stale fails there. The bundling is :mod:`drape.identification.bundle`;
-this script gives it a command line.
+they were (a new case key at its default). ``tests/drape/identification/test_identify.py``
+checks that every bundled evaluation carries the fingerprint of a bundled case as it loads
+now, so a change of the case that would make the runs stale fails there. The bundling is
+:mod:`drape.identification.bundle`; this script gives it a command line.
 """
 from __future__ import annotations
 

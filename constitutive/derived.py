@@ -20,7 +20,7 @@ so ``f1/f2`` and ``1 − η`` carry only one or two significant digits when
 f1 ≈ f2 and η ≈ 1.  s_e is then very sensitive: for Fabric 1 warp
 (Table 4.4) the printed inputs give s_e = 12.6 cm⁻¹, but η = 0.99977 — which
 also prints as 0.9998 — gives the printed 10.92 cm⁻¹ (see
-``tests/test_derived.py``).  Table 4.14 (Fabric 2 weft) prints s_e, s_p and
+``tests/constitutive/test_derived.py``).  Table 4.14 (Fabric 2 weft) prints s_e, s_p and
 f_s each 100× what Table 4.13 gives (s_p = 3 ε_f = 2.29e-3, printed 2.29e-1;
 f_s = 4.0e-4, printed 4.045e-2): all four of its entries follow, within
 rounding, from f1 ≈ f2 ≈ 16.00, f1 − f2 = 2.12e-6, ε_f = 7.646e-2 — i.e. it was

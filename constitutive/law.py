@@ -226,8 +226,8 @@ class BendingState:
             between stick and slip. ``"nonnegative"`` floors the friction part of ``dM`` at zero. Where the slow
             Dahl term overtakes the fast one after a reversal the friction moment falls
             with curvature; with Fabric 2's weft as printed (ε_f = 7.6e-4 cm⁻¹) the total
-            tangent falls to −51 k1 on loading from rest (``tests/test_law.py``). The
-            consistent tangent then sends Newton off; the floored one converges (linearly
+            tangent falls to −51 k1 on loading from rest (``tests/constitutive/test_law.py``).
+            The consistent tangent then sends Newton off; the floored one converges (linearly
             there) to the same equilibrium, since the moment itself is unchanged.
 
         Returns
