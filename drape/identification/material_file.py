@@ -49,6 +49,8 @@ import tomli_w
 from constitutive.material import DEFAULT_MEMBRANE, MaterialError, load_material
 from constitutive.tensile import DEFAULT_TENSILE
 from constitutive.units import to_kes
+from drape.case.build import build_material
+from drape.case.case import parse_case
 from drape.identification.parameters import kes_values
 
 __all__ = ["write_material", "material_differences", "built_on_base"]
@@ -141,9 +143,6 @@ def _sheet_form(case, point: dict, weight: float) -> tuple[dict, dict] | None:
 def built_on_base(path, base):
     """The material (SI) the base case builds with its ``[material]`` table replaced by
     ``path = <path>``."""
-    from drape.case.build import build_material
-    from drape.case.case import parse_case
-
     base = Path(base)
     data = tomllib.loads(base.read_text())
     data["material"] = {"path": str(Path(path).resolve())}
