@@ -272,6 +272,7 @@ def test_one_bad_scan_does_not_stop_the_others(tmp_path, capsys):
 
 
 # ---------------------------------------------------------------- a simulated drape read back
+@pytest.mark.slow
 def test_a_simulated_drape_read_from_its_vtu_gives_the_runs_own_summary(tmp_path):
     """Fabric 1 on a coarse annulus (2 x 36), lowered in 0.5 s and stopped at 1 s: a draped
     shape with folds in a few seconds.  Its last VTU (reference mesh and displacement) measured
@@ -304,6 +305,7 @@ def test_a_simulated_drape_read_from_its_vtu_gives_the_runs_own_summary(tmp_path
 
 
 # ---------------------------------------------------------------- a set of registered scans
+@pytest.mark.slow
 def test_scan_descriptors_of_a_dataset_file(tmp_path):
     """A small file of the registered-scan form: int16 vertices in units of 10 µm, per-fabric
     statistics without the creep series."""
@@ -337,6 +339,7 @@ def test_scan_descriptors_of_a_dataset_file(tmp_path):
     assert "fabrics (creep series excluded)" in format_tables(tables)
 
 
+@pytest.mark.slow
 def test_training_scans_judged_as_the_prediction_of_the_test_scans(tmp_path):
     """The scans alone: fabric 1's odd specimen (the training half)
     hangs in 8 folds, its even one in 6, so the training scans miss the test's mode by 2; fabric

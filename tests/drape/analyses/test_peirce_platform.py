@@ -24,6 +24,7 @@ def fabric1():
     return material.warp, material.areal_mass * G0
 
 
+@pytest.mark.slow
 def test_elastic_elastica_pushed_meets_the_line_where_clamped_it_does(fabric1):
     """Without memory the pushed strip is at every overhang what the clamped one is: clamped at
     the overhang where the pushed one met 41.5°, it hangs at 41.5° (to the interpolation
@@ -37,6 +38,7 @@ def test_elastic_elastica_pushed_meets_the_line_where_clamped_it_does(fabric1):
     assert elastica.clamped_chord(law, weight, hysteretic, 1e-4) < 41.5 - 0.5     # measured 40.73°
 
 
+@pytest.mark.slow
 def test_a_stiffer_grip_reads_closer_to_the_perfect_clamp(fabric1):
     """The elastic strip pushed through a grip of foundation stiffness K meets the line short of
     the perfect clamp, by a rotation at the edge that shrinks like K^(-1/4) (a beam on an elastic
@@ -53,6 +55,7 @@ def test_a_stiffer_grip_reads_closer_to_the_perfect_clamp(fabric1):
     assert points < stiff
 
 
+@pytest.mark.slow
 def test_elastica_hangs_at_the_clamped_shell_cantilevers_chord_angle(tmp_path, fabric1):
     """cases/cantilever.toml (the shell, the law with its friction, dynamic settling) and the
     elastica clamped at the same overhang under a growing weight: chord angles within 0.05°."""
@@ -63,6 +66,7 @@ def test_elastica_hangs_at_the_clamped_shell_cantilevers_chord_angle(tmp_path, f
     assert shell["chord_angle_deg"] == pytest.approx(reference, abs=0.05)
 
 
+@pytest.mark.slow
 def test_platform_meets_the_line_within_1_percent_of_a_perfect_clamp(tmp_path, fabric1):
     """cases/peirce_platform.toml with an elastic strip (the grip compared alone): the overhang at
     which its tip meets 41.5°, so its bending length, within 1 % of the elastica's over a perfect
@@ -77,6 +81,7 @@ def test_platform_meets_the_line_within_1_percent_of_a_perfect_clamp(tmp_path, f
     assert np.isfinite(platform["bending_length_peirce_m"])
 
 
+@pytest.mark.slow
 def test_platform_with_the_law_gives_the_clamped_cantilevers_bending_length_within_2_percent(
         tmp_path, fabric1):
     """The tester as shipped (the law with its friction): Peirce's bending length read on the
@@ -97,6 +102,7 @@ def test_platform_with_the_law_gives_the_clamped_cantilevers_bending_length_with
     assert platform["overhang_m"] == pytest.approx(pushed, rel=0.01)
 
 
+@pytest.mark.slow
 def test_the_grip_converges_with_the_exact_tangent_and_not_with_the_projected_one(tmp_path):
     """Held between platform and ruler, the strip's first load step converges with the exact
     barrier Hessian; projected on the positive semi-definite cone pair by pair (IPC's), the
@@ -113,6 +119,7 @@ def test_the_grip_converges_with_the_exact_tangent_and_not_with_the_projected_on
     assert all(0.4 < b / a < 1.0 for a, b in zip(norms, norms[1:]))     # linear, not quadratic
 
 
+@pytest.mark.slow
 def test_one_pair_per_point_pushes_the_strip_past_the_edge_where_ipcs_pairs_stall(tmp_path):
     """The case's strip with its fine zone from 4.5 mm: with IPC's own pairs the push stalls as a
     contact point passes the platform's edge (t ≈ 0.70 s, where the edge has moved 0.2 mm; 0.99 s

@@ -66,6 +66,7 @@ def test_statistics_over_the_finished_seeds_match_the_statistics_module():
     assert one["DC_percent"]["std"] is None and one["nodes"]["agreement"] == "1 of 1 seeds gave 6 nodes"
 
 
+@pytest.mark.slow
 def test_a_tiny_cusick_ensemble_end_to_end(tmp_path, capsys, tiny_cusick):
     table = tmp_path / "fabrics.csv"
     table.write_text("name,material.bending_scale,measured.DC,measured.nodes\nlimp,1,61.5,6\n"

@@ -148,6 +148,7 @@ def test_cusick_levels_are_valid_cases_of_the_wool():
         load_case(WOOL, row.overrides())      # raises for a level that is no valid case
 
 
+@pytest.mark.slow
 def test_cusick_factors_run_tiny_and_write_table_json_and_chart(tmp_path, tiny_cusick):
     out = tmp_path / "sens"
     # a tiny case (12 triangles, two steps) to keep the test short
@@ -204,6 +205,7 @@ def test_fold_preference_names_the_frictionless_state_of_least_energy(tmp_path):
     assert folds.measured_nodes(WOOL) == 5
 
 
+@pytest.mark.slow
 def test_fold_preference_tiny_runs_each_mode_with_and_without_friction(tmp_path, tiny_cusick):
     out = tmp_path / "folds"
     text = folds.run_fold_preference(WOOL, [2, 3], out, overrides=tiny_cusick, workers=2)

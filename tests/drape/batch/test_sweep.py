@@ -76,6 +76,7 @@ def test_grid_is_the_product_of_the_value_lists():
 
 
 # --------------------------------------------------------------------------- LocalCluster
+@pytest.mark.slow
 def test_four_row_sweep_with_an_invalid_row_on_a_local_cluster(tmp_path):
     table = write_table(tmp_path / "catalogue.csv",
                         "name,material.bending_scale,measured.DC\n"
@@ -189,6 +190,7 @@ def dask_cluster(tmp_path):
     assert worker is not None and worker.poll() is not None and scheduler.poll() is not None, codes
 
 
+@pytest.mark.slow
 def test_two_row_sweep_through_an_existing_scheduler(tmp_path, dask_cluster, monkeypatch):
     import distributed
 
@@ -211,6 +213,7 @@ def test_two_row_sweep_through_an_existing_scheduler(tmp_path, dask_cluster, mon
     assert {r["worker"] for r in records} == {external_worker(dask_cluster)}
 
 
+@pytest.mark.slow
 def test_the_dask_environment_variable_names_the_scheduler(tmp_path, dask_cluster):
     out = tmp_path / "sweep"
     env = env_with_worktree()
@@ -226,6 +229,7 @@ def test_the_dask_environment_variable_names_the_scheduler(tmp_path, dask_cluste
 
 
 # --------------------------------------------------------------------------- SIGTERM + resume
+@pytest.mark.slow
 def test_a_terminated_sweep_resumes_with_only_the_missing_rows(
         tmp_path, terminate_after_first_row):
     out = tmp_path / "sweep"

@@ -140,6 +140,7 @@ def sweep_command(out: Path, *extra: str) -> list[str]:
             *extra]
 
 
+@pytest.mark.slow
 def test_a_terminated_sweep_resumes_to_the_results_of_an_uninterrupted_one(
         tmp_path, terminate_after_first_row):
     """The cantilever settles in each row (0.5: limp, 2: stiff); SIGTERM once one row is in,

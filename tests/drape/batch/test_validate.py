@@ -51,6 +51,7 @@ def test_the_cotton_anisotropy_table_splits_the_sheet_about_the_mean_each_row_na
             assert mean == pytest.approx(printed, rel=1e-4), row.name
 
 
+@pytest.mark.slow
 def test_validate_runs_every_case_as_an_ensemble_and_compares(tmp_path, capsys, tiny_cusick):
     out = tmp_path / "validation"
     code = validate_cli.main([str(CASES), "--seeds", "2", "--out", str(out), "--workers", "1",

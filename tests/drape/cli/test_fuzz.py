@@ -283,6 +283,7 @@ def _read_and_check(path: Path, broken: str | None) -> str:
     return "refused" if refused else "accepted"
 
 
+@pytest.mark.slow
 def test_run_tables_are_mostly_read_and_built_and_the_broken_ones_refused(tmp_path_factory):
     """Mostly valid run tables: each is read and every row builds. A share is broken on
     purpose, every way of :data:`BREAKS`, and refused in one line, by the table reader or by a

@@ -303,6 +303,7 @@ def capstan(ratio, mu, phi, t_end, T1=0.05, L=0.2, W=0.02, nx=20, R=0.04, dt=0.0
     return s[-1] - np.interp(0.1, t, s), (s[-1] - s[after][0]) / max(t[-1] - t[after][0], 1e-12)
 
 
+@pytest.mark.slow
 def test_capstan_strip_sticks_below_and_slips_above_exp_mu_theta():
     """Euler–Eytelwein: a strip wrapping θ of a post slips once T2/T1 exceeds exp(μθ)."""
     mu, theta = 0.3, np.radians(60.0)
@@ -316,6 +317,7 @@ def test_capstan_strip_sticks_below_and_slips_above_exp_mu_theta():
 # ---------------------------------------------------------------------------- moving bodies, pair counts
 
 
+@pytest.mark.slow
 @FLAT
 def test_a_rising_plane_lifts_the_sheet_without_passing_through(kind):
     from drape.contact.motion import RigidPath

@@ -26,6 +26,7 @@ def test_contact_case_builds(name):
     assert out == 0
 
 
+@pytest.mark.slow
 def test_short_drop_folds_without_crossing_itself_or_a_body(tmp_path):
     """The case's first half second: the strip slides down the slope, its leading end stops on
     the mat and the rest rides up onto it. Every written step is checked, fabric against itself

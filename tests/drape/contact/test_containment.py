@@ -43,6 +43,7 @@ def check_command(overrides) -> subprocess.CompletedProcess:
                           cwd=ROOT, capture_output=True, text=True, timeout=300)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["sphere", "box"])
 def test_check_refuses_a_fabric_inside_a_closed_body_in_one_line(tiny_cusick, kind):
     done = check_command(with_bodies(tiny_cusick, AROUND[kind]))

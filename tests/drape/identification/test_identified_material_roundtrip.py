@@ -128,6 +128,7 @@ SMALL = ["mesh.n_radial=2", "mesh.n_circumferential=16", "solver.t_end=0.8", "so
          "load.perturbation.duration=0.5", "output.every_dt=0.8"]
 
 
+@pytest.mark.slow
 def test_the_file_drapes_as_the_runs_did(tmp_path):
     """End to end: the written file on the shrunk base case gives the drape coefficient of the
     shrunk base case with the point's overrides (what a forward run of the point loads). About

@@ -193,6 +193,7 @@ def identify_command(scans, out: Path, *extra) -> list[str]:
             "--out", str(out), "--quiet", *extra]
 
 
+@pytest.mark.slow
 def test_the_models_own_drapes_are_identified_back_after_a_kill(
         model_scans, tmp_path, terminate_after_first_row):
     """Identifiability and --resume: SIGTERM once one evaluation is stored, resume, and the
@@ -226,6 +227,7 @@ def test_the_models_own_drapes_are_identified_back_after_a_kill(
     assert page.count("data:image/png;base64,") >= 5 and "<script" not in page
 
 
+@pytest.mark.slow
 def test_a_drape_beyond_the_box_is_out_of_reach(model_scans, tmp_path):
     """DC 71 % at c = 2 cm: a box of c up to 1.2 cm cannot reach it; exit 5, one line."""
     done = subprocess.run([sys.executable, "-m", "drape.identify", *map(str, model_scans),
@@ -273,6 +275,7 @@ class StandInRuns:
         return Evaluation(point, "stand-in", runs, name)
 
 
+@pytest.mark.slow
 def test_the_search_ends_when_the_surrogate_asks_again_for_a_point_it_has(tmp_path):
     """On a stand-in drape (DC a smooth function of c, 2 points of seed scatter) the search
     ends once its next point lies within a hundredth of the box of one run, well inside a
@@ -319,6 +322,7 @@ def test_a_search_that_comes_back_to_a_known_point_runs_its_answer_before_it_end
     assert answer["bending_length"] == pytest.approx(1.5, rel=0.05)
 
 
+@pytest.mark.slow
 def test_a_withdrawn_suggestion_leaves_no_stand_in_score_behind():
     """The constant liar keeps a stand-in score at each suggestion until it is run: a second
     suggestion goes elsewhere (most of the box away here). A suggestion the search declines
@@ -431,6 +435,7 @@ def test_face_dcs_measure_each_capture_once(monkeypatch):
         assert measured == again
 
 
+@pytest.mark.slow
 def test_a_bundled_library_warm_starts_the_search_and_is_never_written(tmp_path):
     """Forward runs bundled with the package (read only) join the search like a library's: a
     search that finds the stand-in drape's corners and design among them runs none of them,

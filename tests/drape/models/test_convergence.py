@@ -66,6 +66,7 @@ def test_simply_supported_plate_converges_at_the_element_rate(element, sizes, wi
     assert lo < slope(1.0 / np.array(sizes), errors) < hi, errors
 
 
+@pytest.mark.slow
 def test_shell_elastica_under_end_moment_converges():
     """A cantilever strip rolled into a half circle by a follower end moment (θ = ML/B = π): the
     elastica is a circular arc of curvature M/B with the tip at u = −L(1 − sin θ/θ),

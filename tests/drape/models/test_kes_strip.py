@@ -44,6 +44,7 @@ def profile_kappa(t):
     return p.kappa[0], p.kappa_dot[0], p.kappa_ddot[0]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("element, n", [("morley", (4, 2)), ("argyris", (2, 1))])
 def test_dynamic_kes_strip_matches_run_kes(element, n):
     """Newmark run with m, d, cubic and friction: edge moment = run_kes moment to 1e-6 relative."""
@@ -73,6 +74,7 @@ def test_dynamic_kes_strip_matches_run_kes(element, n):
     assert np.max(np.abs(ref.friction)) > 0.1 * scale
 
 
+@pytest.mark.slow
 def test_quasi_static_kes_strip_rate_free_law():
     """Quasi-static path (no rates): a law without m, d is reproduced to 1e-6 relative."""
     law, mat = fabric()

@@ -105,6 +105,7 @@ def assert_same_final_state(out: Path, reference: Path) -> None:
                                    err_msg=key)
 
 
+@pytest.mark.slow
 def test_sigterm_leaves_a_valid_run_that_resumes_to_the_uninterrupted_state(tmp_path, uninterrupted):
     out = tmp_path / "run"
     proc = start_run(out)
@@ -135,6 +136,7 @@ def test_sigterm_leaves_a_valid_run_that_resumes_to_the_uninterrupted_state(tmp_
     assert final["analysis"]["tip_drop_m"] == pytest.approx(want["analysis"]["tip_drop_m"], rel=RTOL)
 
 
+@pytest.mark.slow
 def test_a_run_stopped_in_its_settling_phase_resumes_with_the_same_growing_steps(
         tmp_path, tmp_path_factory):
     reference = reference_run(tmp_path_factory, GROWING)
@@ -156,6 +158,7 @@ def test_a_run_stopped_in_its_settling_phase_resumes_with_the_same_growing_steps
     assert_same_final_state(out, reference)
 
 
+@pytest.mark.slow
 def test_a_run_stopped_while_the_settling_rule_counts_resumes_with_its_count(tmp_path, tmp_path_factory):
     reference = tmp_path_factory.mktemp("settles")
     want = runner.run_case(load_case(CANTILEVER, LOOSE_RULE), reference, quiet=True)
@@ -175,6 +178,7 @@ def test_a_run_stopped_while_the_settling_rule_counts_resumes_with_its_count(tmp
     assert got["t_final"] == pytest.approx(want["t_final"], rel=1e-12) and got["reason"] == want["reason"]
 
 
+@pytest.mark.slow
 def test_resume_drops_output_written_after_the_checkpoint(tmp_path, uninterrupted):
     """A run killed hard may have written steps its checkpoint does not hold; they are redone."""
     killed = tmp_path / "killed"

@@ -71,6 +71,7 @@ def test_energy_balance_with_rayleigh_and_law_damping():
     assert out[-1][1] > 0.1 * e0     # the damping really worked
 
 
+@pytest.mark.slow
 def test_second_order_accuracy_and_hht_dissipation():
     """Harmonic oscillator, period 1: the trapezoidal rule's discrete solution is cos(ω̃ t) with
     ω̃ = (2/Δt) arctan(ωΔt/2) (to 1e-9), so the error at the zero crossing t = 1.25 falls 4× per
