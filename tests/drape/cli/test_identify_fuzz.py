@@ -19,7 +19,6 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from drape.cli.identify import main
-from drape.identification import identify as identify_module
 from drape.identification.definition import DEFINITION
 from drape.identification.parameters import PARAMETERS
 
@@ -34,29 +33,6 @@ boxes = st.lists(st.tuples(st.sampled_from(KEYS + ["frobnicate"]),
                            st.floats(-1.0, 50.0) | st.sampled_from([math.inf, math.nan]),
                            st.floats(-1.0, 50.0)), max_size=2).map(
     lambda items: [f"{k}={lo:g},{hi:g}" for k, lo, hi in items])
-
-
-class StandInClient:
-    def scheduler_info(self):
-        return {"workers": {}}
-
-    def close(self):
-        pass
-
-
-def _interrupted(*args, **kwargs):
-    raise KeyboardInterrupt
-
-
-@pytest.fixture
-def no_runs(monkeypatch):
-    monkeypatch.setattr(identify_module, "open_client", lambda *a, **k: (StandInClient(), None))
-    monkeypatch.setattr(identify_module, "run_search", _interrupted)
-
-
-@pytest.fixture
-def scan(tmp_path, drape_surface):
-    return drape_surface(n_folds=5, n_sectors=120, n_rings=3).write(tmp_path / "scan.ply")
 
 
 #: Values in each option's range (the base case may still refuse a box's corner).

@@ -22,30 +22,8 @@ ROOT = Path(__file__).resolve().parents[3]
 CASE = ROOT / "cases" / "cusick_kes.toml"
 
 
-class StandInClient:
-    """What the identification asks of a Dask client before its search runs."""
-
-    def scheduler_info(self):
-        return {"workers": {}}
-
-    def close(self):
-        pass
-
-
 def _interrupted(*args, **kwargs):
     raise KeyboardInterrupt
-
-
-@pytest.fixture
-def no_runs(monkeypatch):
-    """No cluster and no forward run: the search is interrupted as soon as it starts."""
-    monkeypatch.setattr(identify_module, "open_client", lambda *a, **k: (StandInClient(), None))
-    monkeypatch.setattr(identify_module, "run_search", _interrupted)
-
-
-@pytest.fixture
-def scan(tmp_path, drape_surface):
-    return drape_surface(n_folds=5, n_sectors=120, n_rings=3).write(tmp_path / "scan.ply")
 
 
 def _run(argv, capsys) -> tuple[int, list[str]]:
