@@ -17,8 +17,10 @@ report
 
 Studies built on them: ``cusick_sensitivity`` (the factors of a Cusick drape),
 ``fold_preference`` (drapes forced into n folds, by energy), ``matched_dc`` (a scanned fabric's
-B matched to its DC, the node counts compared), ``validation_lowered`` (the validation cases let
-down as the lowered case) and ``peirce_grip`` (the Peirce platform's grip at rest).
+B matched to its DC, the node counts compared), ``fold_law`` (the node count over the bending
+length against the fold-number law of Cerda, Mahadevan & Pasini), ``validation_lowered`` (the
+validation cases let down as the lowered case) and ``peirce_grip`` (the Peirce platform's grip at
+rest).
 """
 from drape.batch.ensemble import ensemble_stats, ensembles, seed_rows
 from drape.batch.report import write_report
