@@ -5,6 +5,9 @@ A skirt hangs from the disc's edge along straight radial generators to a hem
 specimen's overhang ``R - RD`` as its length; the disc top is flat at z = 0. Seen from above
 the generators only move outwards, so the shadow is the region inside the hem, of area
 ``pi (r0^2 + A^2 / 2)``, and the drape coefficient follows from it.
+
+Also an identification that starts no forward run (:func:`no_runs`), for the tests of
+``drape identify``'s options, and such a drape written as a scan (:func:`scan`).
 """
 from __future__ import annotations
 
@@ -13,6 +16,8 @@ from dataclasses import dataclass
 import meshio
 import numpy as np
 import pytest
+
+from drape.identification import identify as identify_module
 
 R, RD = 0.15, 0.09      # 30 cm specimen on an 18 cm disc (m)
 
@@ -77,3 +82,30 @@ def synthetic_drape(n_folds=7, amplitude=0.015, r0=0.125, phase=0.0, centre=(0.0
 def drape_surface():
     """:func:`synthetic_drape`, for the tests that build their own."""
     return synthetic_drape
+
+
+class StandInClient:
+    """What the identification asks of a Dask client before its search runs."""
+
+    def scheduler_info(self):
+        return {"workers": {}}
+
+    def close(self):
+        pass
+
+
+def _interrupted(*args, **kwargs):
+    raise KeyboardInterrupt
+
+
+@pytest.fixture
+def no_runs(monkeypatch):
+    """No cluster and no forward run: the search is interrupted as soon as it starts."""
+    monkeypatch.setattr(identify_module, "open_client", lambda *a, **k: (StandInClient(), None))
+    monkeypatch.setattr(identify_module, "run_search", _interrupted)
+
+
+@pytest.fixture
+def scan(tmp_path, drape_surface):
+    """A synthetic five-fold drape written as a PLY scan."""
+    return drape_surface(n_folds=5, n_sectors=120, n_rings=3).write(tmp_path / "scan.ply")
