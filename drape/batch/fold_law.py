@@ -24,13 +24,12 @@ The runs are those of :mod:`drape.batch.matched_dc` at a given B (warp = weft, 2
 """
 from __future__ import annotations
 
-import csv
 import math
 from pathlib import Path
 
 import numpy as np
 
-from drape.batch.matched_dc import GOOD, fabric_keys
+from drape.batch.matched_dc import GOOD, fabric_keys, write_rows
 from drape.batch.rows import SweepRow
 from drape.case import load_case
 
@@ -299,11 +298,7 @@ def write_table(table: list[dict], out, disc_radius: float = 9.0, specimen_radiu
     out.mkdir(parents=True, exist_ok=True)
     if not table:
         raise ValueError("no finished runs to compare with the law")
-    with open(out / "fold_law.csv", "w", newline="") as fh:
-        writer = csv.DictWriter(fh, list(table[0]))
-        writer.writeheader()
-        writer.writerows(table)
     text = markdown(table)
-    (out / "fold_law.md").write_text(text + "\n")
+    write_rows(table, text, out, "fold_law")
     write_plot(table, out / "fold_law.png", disc_radius, specimen_radius)
     return text

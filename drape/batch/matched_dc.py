@@ -32,7 +32,7 @@ from drape.batch.sweep import run_sweep
 
 __all__ = ["LAWS", "GRIDS", "START_B", "SLOPE", "fabric_keys", "read_fabrics", "read_start", "sweep",
            "dc_curve", "matched_B", "compare", "secant_B", "secant_match", "compare_secant",
-           "table_row", "mode_within", "markdown", "nodes_figure", "write_table"]
+           "table_row", "mode_within", "markdown", "nodes_figure", "write_rows", "write_table"]
 
 #: Friction law → its case overrides.
 LAWS = {"tensor": [], "per_direction": ["model.bending_friction=per_direction"]}
@@ -347,15 +347,21 @@ def nodes_figure(table: list[dict]):
     return fig
 
 
-def write_table(table: list[dict], out) -> str:
-    """Write ``matched.csv``, ``matched.md`` and ``nodes_at_matched_dc.png`` to ``out``; return
-    the markdown."""
+def write_rows(table: list[dict], text: str, out, stem: str) -> None:
+    """Write a study's rows as ``<stem>.csv`` and its markdown ``text`` as ``<stem>.md`` in
+    ``out``."""
     out = Path(out)
-    with open(out / "matched.csv", "w", newline="") as fh:
+    with open(out / f"{stem}.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, list(table[0]))
         writer.writeheader()
         writer.writerows(table)
+    (out / f"{stem}.md").write_text(text + "\n")
+
+
+def write_table(table: list[dict], out) -> str:
+    """Write ``matched.csv``, ``matched.md`` and ``nodes_at_matched_dc.png`` to ``out``; return
+    the markdown."""
     text = markdown(table)
-    (out / "matched.md").write_text(text + "\n")
-    nodes_figure(table).savefig(out / "nodes_at_matched_dc.png", dpi=120)
+    write_rows(table, text, out, "matched")
+    nodes_figure(table).savefig(Path(out) / "nodes_at_matched_dc.png", dpi=120)
     return text
