@@ -28,9 +28,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from drape.batch.fold_law import case_radii, compare, fold_law_rows, write_table
-from drape.batch.matched_dc import sweep
-from drape.batch.rows import read_results
+from drape.batch.fold_law import study
 
 ROOT = Path(__file__).resolve().parents[1]
 GRID = [0.003, 0.006, 0.012, 0.025, 0.05, 0.1, 0.2, 0.4, 0.8]
@@ -51,16 +49,11 @@ def main(argv=None) -> int:
     args = p.parse_args(argv)
     if len(set(args.B)) < 2:
         p.error("--B: at least two values (the law's prefactor is fitted on half of them)")
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    disc_radius, specimen_radius = case_radii(args.case, args.overrides)
-    rows = fold_law_rows(args.case, sorted(set(args.B)), args.weight, args.seeds)
-    sweep(args.case, rows, out / "runs", args.workers, list(args.overrides))
-    table = compare(read_results(out / "runs" / "results.csv"), disc_radius, specimen_radius)
-    if not table:
+    text = study(args.case, args.B, args.weight, args.seeds, args.out, args.workers, args.overrides)
+    if text is None:
         print("no run finished: nothing to compare", file=sys.stderr)
         return 3
-    print(write_table(table, out, disc_radius, specimen_radius))
+    print(text)
     return 0
 
 

@@ -431,3 +431,20 @@ def test_the_api_reference_lists_every_identification_module():
     modules one by one; a new module must join the list to be documented."""
     listed = (ROOT / "docs" / "api" / "index.rst").read_text().split()
     assert set(modules("drape.identification")) <= set(listed)
+
+
+def test_no_test_loads_a_benchmark_script():
+    """What a test needs lives in the package; ``benchmarks/`` holds thin command lines over it.
+    A test that names the folder in code (a path built from ``"benchmarks"``, a file under it,
+    a module loaded from a file) is refused."""
+    offenders = []
+    for path in sorted((ROOT / "tests").rglob("*.py")):
+        if path == Path(__file__).resolve():
+            continue            # this rule names what it looks for
+        for node in ast.walk(ast.parse(path.read_text())):
+            text = node.value if isinstance(node, ast.Constant) and isinstance(node.value, str) else ""
+            name = node.attr if isinstance(node, ast.Attribute) else ""
+            if (text == "benchmarks" or (text.startswith("benchmarks/") and text.endswith(".py"))
+                    or name in ("spec_from_file_location", "run_path")):
+                offenders.append(f"{path.relative_to(ROOT)}:{node.lineno}")
+    assert offenders == []

@@ -29,12 +29,12 @@ from pathlib import Path
 
 import numpy as np
 
-from drape.batch.matched_dc import GOOD, fabric_keys, write_rows
-from drape.batch.rows import SweepRow
+from drape.batch.matched_dc import GOOD, fabric_keys, sweep, write_rows
+from drape.batch.rows import SweepRow, read_results
 from drape.case import load_case
 
 __all__ = ["bending_length_cm", "cerda_folds", "case_radii", "fold_law_rows", "fit_prefactor",
-           "compare", "agreement", "markdown", "fold_figure", "write_plot", "write_table"]
+           "compare", "agreement", "markdown", "fold_figure", "write_plot", "write_table", "study"]
 
 B_KEY = "material.kes.B_warp"
 WEIGHT_KEY = "material.kes.weight"
@@ -302,3 +302,18 @@ def write_table(table: list[dict], out, disc_radius: float = 9.0, specimen_radiu
     write_rows(table, text, out, "fold_law")
     write_plot(table, out / "fold_law.png", disc_radius, specimen_radius)
     return text
+
+
+def study(case, B_values, weight: float, seeds: int, out, workers=None, overrides=()) -> str | None:
+    """Run the study: the rows of ``B_values`` through the sweep into ``out/runs`` (continued
+    where it exists), compared with the law and written to ``out`` (:func:`write_table`).
+
+    Returns the markdown table, or None when no run finished.
+    """
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    disc_radius, specimen_radius = case_radii(case, overrides)
+    rows = fold_law_rows(case, sorted(set(B_values)), weight, seeds)
+    sweep(case, rows, out / "runs", workers, list(overrides))
+    table = compare(read_results(out / "runs" / "results.csv"), disc_radius, specimen_radius)
+    return write_table(table, out, disc_radius, specimen_radius) if table else None

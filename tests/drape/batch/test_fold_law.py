@@ -2,7 +2,6 @@
 by hand from its formula, its rows against those of the matched-DC study, and the comparison
 and figure on made-up sweep records (no drape runs)."""
 import csv
-import importlib.util
 import math
 from pathlib import Path
 
@@ -125,10 +124,7 @@ def test_plot_and_tables_are_written(tmp_path):
     assert (tmp_path / "out" / "fold_law.md").read_text().strip() == text
 
 
-def test_the_script_runs_the_rows_and_writes_the_study(monkeypatch, tmp_path):
-    spec = importlib.util.spec_from_file_location("fold_law_script", ROOT / "benchmarks" / "fold_law.py")
-    script = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(script)
+def test_the_study_runs_the_rows_and_writes_its_tables(monkeypatch, tmp_path):
     swept = []
 
     def fake_sweep(case, rows, out, workers, overrides):       # no drape runs: the law's records
@@ -140,12 +136,12 @@ def test_the_script_runs_the_rows_and_writes_the_study(monkeypatch, tmp_path):
             writer.writeheader()
             writer.writerows(recs)
 
-    monkeypatch.setattr(script, "sweep", fake_sweep)
+    monkeypatch.setattr(fold_law, "sweep", fake_sweep)
     out = tmp_path / "study"
-    assert script.main(["--case", str(CASE), "--B", "0.8", "0.003", "0.05", "0.012", "0.2",
-                        "--seeds", "1", "--out", str(out)]) == 0
+    text = fold_law.study(CASE, [0.8, 0.003, 0.05, 0.012, 0.2], 15.0, 1, out)
     assert swept == [["B0.003_s0", "B0.012_s0", "B0.05_s0", "B0.2_s0", "B0.8_s0"]]
     for name in ("fold_law.csv", "fold_law.md", "fold_law.png"):
         assert (out / name).exists()
+    assert (out / "fold_law.md").read_text().strip() == text
     with open(out / "fold_law.csv", newline="") as fh:
         assert len(list(csv.DictReader(fh))) == 5
