@@ -2,7 +2,7 @@
 
 Each case runs alone, one after another, as ``python -m drape.run`` in a fresh process of the
 code tree given with ``--code`` (its own ``drape`` package first on ``PYTHONPATH``, its own case
-files), so one session can time two checkouts side by side: with several ``--code`` trees the
+files), so one benchmark run can time two checkouts side by side: with several ``--code`` trees the
 runs of one case follow each other, tree by tree, and a case's rows were taken under the same
 conditions. Per run the script prints the process's wall time (imports, build, integration,
 analysis and output), the run's own wall time (``summary.json``, from the build on), steps,
