@@ -234,7 +234,7 @@ def write_material(path, name: str, point: dict, weight: float, thickness: float
         path.write_text("\n".join([*lines, *notes]) + "\n" + tomli_w.dumps(body))
 
     def laws(why: str):
-        body = {k: v for k, v in data.items()}
+        body = dict(data)
         body["weight"] = _exact(to_kes(built.areal_mass, "weight"))
         if _twist_given(built):
             body["twist_rigidity"] = _exact(to_kes(built.twist_rigidity, "twist_rigidity"))
@@ -242,6 +242,12 @@ def write_material(path, name: str, point: dict, weight: float, thickness: float
         body["membrane"] = _membrane_table(built)
         write(body, [why])
         load_material(path)      # refuse to hand over a file the library cannot read
+
+    def differences_on_base() -> list[str]:
+        """What the written file, on the base case, builds otherwise than the runs did."""
+        if base is None or built is None:
+            return []
+        return material_differences(built_on_base(path, base), built)
 
     sheet = _sheet_form(case, point, weight)
     if sheet is None:
@@ -262,8 +268,8 @@ def write_material(path, name: str, point: dict, weight: float, thickness: float
         write(body)
         try:
             load_material(path)
-            ok = base is None or built is None or not material_differences(
-                built_on_base(path, base), built)
+            differ = differences_on_base()
+            ok = not differ
         except MaterialError:
             if built is None:
                 raise
@@ -272,7 +278,8 @@ def write_material(path, name: str, point: dict, weight: float, thickness: float
             laws("# B outside a KES sheet's plausible range at this weight, or a [kes] table "
                  "that does not build the runs' material: the law tables")
     if base is not None and built is not None:
-        differ = material_differences(built_on_base(path, base), built)
+        if sheet is None or not ok:
+            differ = differences_on_base()
         if differ:
             text = path.read_text()
             path.write_text("# on the base case this file does not build the runs' material "
