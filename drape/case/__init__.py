@@ -11,6 +11,8 @@ loads
     The ``[load]`` tables.
 case
     :class:`Case`, :func:`load_case`, ``--set`` overrides, cross-table rules.
+setup
+    A case on a set-up (``setup = "cusick"``): the set-up's tables under the case's own.
 help
     ``--help-case`` text from the JSON schema.
 build
@@ -19,7 +21,9 @@ timeline
     Time-step phases, times to land on, quasi-static pseudo-times.
 """
 from drape.case.build import Parts, RunInputError, build
-from drape.case.case import Case, CaseError, apply_overrides, dump_case, load_case, parse_case
+from drape.case.case import (Case, CaseError, apply_overrides, dump_case, load_case, parse_case,
+                             read_case_data)
+from drape.case.setup import merge_setup
 
-__all__ = ["Case", "CaseError", "load_case", "parse_case", "apply_overrides", "dump_case",
-           "Parts", "RunInputError", "build"]
+__all__ = ["Case", "CaseError", "load_case", "parse_case", "read_case_data", "merge_setup",
+           "apply_overrides", "dump_case", "Parts", "RunInputError", "build"]

@@ -65,6 +65,7 @@ from pathlib import Path
 
 from pydantic import ValidationError, model_validator
 
+from constitutive.bundled import cases_dir
 from constitutive.schema_errors import format_errors
 from drape.case.contact_tables import BODY_SHAPES, ContactSpec
 from drape.case.help import describe
@@ -82,6 +83,7 @@ from drape.case.material_tables import CaseMaterial, LawOverride  # noqa: F401
 from drape.case.mesh_tables import (CircleMesh, CusickMesh, FileMesh, MeshSpec,  # noqa: F401
                                     RectangleMesh, StripMesh)
 from drape.case.quantities import _Section, _rule
+from drape.case.setup import SETUP_KEY, SETUPS, merge_setup
 from drape.case.schema import (  # noqa: F401  (the tables, importable with the case)
     CaseInfo,
     Damping,
@@ -98,6 +100,7 @@ __all__ = [
     "CaseError",
     "load_case",
     "parse_case",
+    "read_case_data",
     "apply_overrides",
     "check_boundaries",
     "dump_case",
@@ -273,8 +276,55 @@ def apply_overrides(data: dict, overrides: list[str] | None) -> None:
         node[parts[-1]] = _toml_value(text.strip())
 
 
+def _read_toml(path: Path, what: str) -> dict:
+    if path.is_dir():
+        raise CaseError(f"{path} is a folder, not a {what} (give a .toml file in it)")
+    try:
+        return tomllib.loads(path.read_bytes().decode("utf-8"))
+    except FileNotFoundError:
+        raise CaseError(f"{what} {str(path)!r} does not exist") from None
+    except UnicodeDecodeError as exc:
+        raise CaseError(f"{path}: not a text file (a TOML {what} is UTF-8 text; byte "
+                        f"{exc.start} is not)") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(f"{path}: not valid TOML ({exc})") from None
+
+
+def read_case_data(path) -> dict:
+    """The case file at ``path`` as a dictionary, on its set-up if it names one
+    (:mod:`drape.case.setup`).
+
+    ``setup`` is the name of a bundled set-up (``"cusick"``: ``cases/setups/cusick.toml``, so a
+    copied case file keeps its set-up), or a ``.toml`` path relative to the case file's
+    folder. A set-up cannot name a set-up of
+    its own (what a case is worked on is read in one place). Relative paths inside the set-up
+    (a mesh file, a body's surface) are the case's: keep them out of set-ups.
+
+    Raises
+    ------
+    CaseError
+        The case or its set-up cannot be read, or ``setup`` is not a string.
+    """
+    path = Path(path)
+    data = _read_toml(path, "case file")
+    name = data.pop(SETUP_KEY, None)
+    if name is None:
+        return data
+    if not isinstance(name, str) or not name.strip():
+        raise CaseError(f"{SETUP_KEY} = {name!r}: must be a bundled set-up's name (\"cusick\") "
+                        "or the path of a set-up file (a string)")
+    bundled = "/" not in name and "\\" not in name and not name.endswith(".toml")
+    setup = _read_toml(cases_dir(SETUPS, f"{name}.toml") if bundled else path.parent / name,
+                       "set-up file")
+    if SETUP_KEY in setup:
+        raise CaseError(f"{SETUP_KEY} = {name!r}: the set-up file names a set-up of its own "
+                        f"({setup[SETUP_KEY]!r}); a set-up is one file")
+    return merge_setup(setup, data)
+
+
 def load_case(path, overrides: list[str] | None = None) -> Case:
-    """Read a TOML case file, apply ``--set`` overrides, validate.
+    """Read a TOML case file (on its set-up, :func:`drape.case.setup.read_case_data`), apply
+    ``--set`` overrides, validate.
 
     Raises
     ------
@@ -282,17 +332,7 @@ def load_case(path, overrides: list[str] | None = None) -> Case:
         Unreadable TOML or any schema violation (message names the key and the rule).
     """
     path = Path(path)
-    if path.is_dir():
-        raise CaseError(f"{path} is a folder, not a case file (give a .toml file in it)")
-    try:
-        data = tomllib.loads(path.read_bytes().decode("utf-8"))
-    except FileNotFoundError:
-        raise CaseError(f"case file {str(path)!r} does not exist") from None
-    except UnicodeDecodeError as exc:
-        raise CaseError(f"{path}: not a text file (a TOML case file is UTF-8 text; byte "
-                        f"{exc.start} is not)") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseError(f"{path}: not valid TOML ({exc})") from None
+    data = read_case_data(path)
     apply_overrides(data, overrides)
     return parse_case(data, base_dir=path.parent)
 

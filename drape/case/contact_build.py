@@ -64,19 +64,21 @@ def body_surface(spec):
     return surface.placed(translation=spec.translation, rotation_deg=spec.rotation_deg, scale=spec.scale)
 
 
-def half_space(spec, path=None) -> HalfSpace:
-    """The placed :class:`drape.contact.half_space.HalfSpace` of a ``shape = "half_space"`` table."""
+def half_space(spec, path=None, resting: float = 0.0) -> HalfSpace:
+    """The placed :class:`drape.contact.half_space.HalfSpace` of a ``shape = "half_space"`` table;
+    ``point = "resting"`` puts the plane ``resting`` [m] below z = 0 (before placement)."""
     linear, shift = shapes.placement(spec.translation, spec.rotation_deg, spec.scale)
-    return HalfSpace(spec.name, linear @ np.asarray(spec.point, dtype=float) + shift,
+    point = [0.0, 0.0, -resting] if spec.point == "resting" else spec.point
+    return HalfSpace(spec.name, linear @ np.asarray(point, dtype=float) + shift,
                      linear @ np.asarray(spec.normal, dtype=float), spec.mu, path)
 
 
-def _body(spec):
+def _body(spec, resting: float):
     _check_size(f"contact.body {spec.name!r}", body_triangles_asked(spec), "its resolution")
     try:
         path = None if spec.path is None else RigidPath(spec.path.times, spec.path.translations)
         if spec.shape == "half_space":
-            return half_space(spec, path)
+            return half_space(spec, path, resting)
         return RigidBody(spec.name, body_surface(spec), spec.mu, path)
     except (ContactInputError, OSError, ValueError) as err:     # OSError: a file missing or not a surface
         said = str(err).removeprefix(f"body {spec.name!r}: ")     # the body's own checks name it too
@@ -99,7 +101,8 @@ def build_contact(spec, shell, material, u0=None) -> Contact:
         raise ContactInputError("contact.thickness: the material has no thickness; give contact.thickness")
     _check_size("contact", float(len(shell.w)) * float(spec.subdivision) ** 2, "contact.subdivision")
     points, triangles, dofs = shell.contact_vertices(spec.subdivision)
-    scene = Scene(points, triangles, [_body(b) for b in spec.body], spec.self_contact, spec.pairs)
+    resting = 0.5 * thickness + 0.5 * spec.dhat     # where a flat specimen rests on a plane
+    scene = Scene(points, triangles, [_body(b, resting) for b in spec.body], spec.self_contact, spec.pairs)
     kappa = spec.barrier_stiffness
     if kappa is None:
         area = float(shell.w.sum())

@@ -87,10 +87,19 @@ class HalfSpaceBody(_Body):
     (``drape.contact.half_space``). It may move along its normal only."""
 
     shape: Literal["half_space"]
-    point: Vector
-    """A point of the plane [m]."""
+    point: Vector | Literal["resting"]
+    """A point of the plane [m], or ``"resting"``: the plane just under a flat specimen at
+    z = 0, where it rests in the middle of its barrier layer (half the fabric's thickness plus
+    d̂/2 below it), whatever the fabric's thickness; the plane must then face +z."""
     normal: Direction = [0.0, 0.0, 1.0]
     """Direction the plane faces (the fabric's side)."""
+
+    @model_validator(mode="after")
+    def _resting_faces_up(self):
+        if self.point == "resting" and not (self.normal[0] == self.normal[1] == 0 < self.normal[2]):
+            raise _rule(f"contact.body {self.name!r}: point = \"resting\" puts the plane under a flat "
+                        f"specimen, so normal must be [0, 0, 1], got {list(self.normal)}")
+        return self
 
 
 class SphereBody(_Body):

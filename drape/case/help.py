@@ -15,6 +15,12 @@ _INTRO = [
     'prints); a dimensional number may also be a string with units, e.g. length = "5 cm".',
     "Unknown keys are errors.",
     "",
+    'setup = "cusick"  (top of the file, before any table; optional)',
+    "    The set-up the case is built on: a bundled set-up's name (cusick: cases/setups/cusick.toml,",
+    "    the Cusick tester as it is worked) or a .toml file beside the case. Its tables are taken",
+    "    under the case's own: the case's values win, tables merge key by key, arrays are replaced;",
+    "    a [material.kes] sheet takes the set-up's [material.kes] values for the keys it omits.",
+    "",
 ]
 
 

@@ -1,6 +1,6 @@
 """``drape identify`` / ``python -m drape.identify``: the bending law from scanned drapes.
 
-``python -m drape.identify SCAN [SCAN ...] --base CASE --out DIR [--free KEY ...] [--box KEY=LO,HI]
+``python -m drape.identify SCAN [SCAN ...] [--base CASE] --out DIR [--free KEY ...] [--box KEY=LO,HI]
 [--seeds N] [--evaluations N] [--library LIB] [--no-bundled-library] [--weight W] [--resume]``
 
 The options make the identification's definition; :func:`drape.identification.identify.identify`
@@ -72,8 +72,8 @@ def _parser() -> argparse.ArgumentParser:
                     "the scans and the base case are checked before DIR is made or written.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog=f"{_ranges()}\n\nfree parameters: {free}\n\nexamples:\n"
-               "  python -m drape.identify scans/*.ply --base cases/cusick_kes.toml --out out/id\n"
-               "  python -m drape.identify s1.ply s2.ply --base cases/cusick_kes.toml "
+               "  python -m drape.identify scans/*.ply --out out/id\n"
+               "  python -m drape.identify s1.ply s2.ply --base my_tester.toml "
                "--free bending_length hysteresis anisotropy --out out/id3\n"
                "  python -m drape.identify --resume --out out/id\n\n"
                + EXIT_CODES + f"\n  {EXIT_OUT_OF_REACH}    the scans are out of the model's "
@@ -82,7 +82,9 @@ def _parser() -> argparse.ArgumentParser:
                    "...), measured as drape measure measures them (30 cm specimen, 18 cm disc)")
     p.add_argument("--scale", type=float, default=None, metavar="FACTOR",
                    help="multiply the scans' coordinates by FACTOR to get metres (0.001 for mm)")
-    p.add_argument("--base", metavar="CASE", help="KES-only Cusick case (e.g. cases/cusick_kes.toml)")
+    p.add_argument("--base", metavar="CASE", help="KES-only Cusick case the forward runs are "
+                   "made on (default: cases/cusick_lowered.toml, the one Cusick set-up, on which "
+                   "the bundled library of forward runs was made)")
     p.add_argument("--out", metavar="DIR", required=True, help="output folder")
     p.add_argument("--free", nargs="+", choices=list(PARAMETERS), metavar="KEY",
                    help=f"parameters to identify (default: {' '.join(DEFAULT_FREE)})")
@@ -139,8 +141,6 @@ def _checked(definition: dict, box_items) -> dict:
 
 def _fresh(given: dict) -> dict:
     """A new identification's definition from the options."""
-    if "base" not in given:
-        raise ValueError("--base CASE is required (or --resume --out DIR of an identification)")
     if "scans" not in given:
         raise ValueError("give the scans to identify from (SCAN ...)")
     box = given.pop("box", None)
@@ -177,9 +177,9 @@ def _definition(args, out: Path) -> dict:
         return _resumed(given, out)
     if exists:
         raise ValueError(f"{out / DEFINITION} exists: continue it with --resume, or use a new --out")
-    if args.resume and not ("base" in given and "scans" in given):
+    if args.resume and "scans" not in given:
         raise ValueError(f"--resume: {out} holds no identification (no {DEFINITION}); start one "
-                         f"with SCAN ... --base CASE --out {out}")
+                         f"with SCAN ... --out {out}")
     return _fresh(given)
 
 

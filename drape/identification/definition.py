@@ -14,12 +14,13 @@ import json
 import math
 from pathlib import Path
 
+from constitutive.bundled import cases_dir
 from constitutive.material.kes_sheet import read_sheet_value
 from drape.identification.parameters import DEFAULT_FREE, PARAMETERS, check_box
 from drape.identification.search import CONVERGED_WITHIN
 from drape.run.atomic import atomic_write_text
 
-__all__ = ["DEFINITION", "OPTIONS", "COUNTS", "DEFAULTS", "BUDGET", "check_definition",
+__all__ = ["DEFINITION", "OPTIONS", "COUNTS", "DEFAULT_BASE", "DEFAULTS", "BUDGET", "check_definition",
            "read_definition", "write_definition"]
 
 #: The identification's definition in its folder, read back by ``--resume``.
@@ -35,8 +36,12 @@ OPTIONS = {"scans": "SCAN", "scale": "--scale", "base": "--base", "set": "--set"
 #: of the initial design (beyond a hundred, more than any budget spends).
 COUNTS = {"seeds": (1, 100), "evaluations": (1, 10_000), "design": (0, 100)}
 
+#: The base case when none is given: the one Cusick set-up (``cases/setups/cusick.toml``) with a
+#: starting fabric, the case the bundled library of forward runs was run on.
+DEFAULT_BASE = cases_dir("cusick_lowered.toml")
+
 #: What a key not given is (a definition stored before a key existed has it so too).
-DEFAULTS = {"scale": 1.0, "set": [], "free": list(DEFAULT_FREE), "seeds": 2, "evaluations": 14,
+DEFAULTS = {"base": str(DEFAULT_BASE), "scale": 1.0, "set": [], "free": list(DEFAULT_FREE), "seeds": 2, "evaluations": 14,
             "converged_within": CONVERGED_WITHIN, "design": None, "weight": None,
             "library": None, "bundled_library": False}
 
@@ -110,8 +115,6 @@ def check_definition(definition: dict) -> dict:
     d = {**DEFAULTS, **definition}
     if "scans" not in d or not isinstance(d["scans"], list) or not d["scans"]:
         raise ValueError("give the scans to identify from (SCAN ...)")
-    if "base" not in d:
-        raise ValueError("--base CASE is required")
     free = _free(d["free"])
     checked = {
         "scans": [_file(s, "SCAN") for s in d["scans"]],

@@ -40,7 +40,6 @@ material file can carry) are written with a comment naming each difference, and 
 from __future__ import annotations
 
 import math
-import tomllib
 import warnings
 from pathlib import Path
 
@@ -50,7 +49,7 @@ from constitutive.material import DEFAULT_MEMBRANE, MaterialError, load_material
 from constitutive.tensile import DEFAULT_TENSILE
 from constitutive.units import to_kes
 from drape.case.build import build_material
-from drape.case.case import parse_case
+from drape.case.case import parse_case, read_case_data
 from drape.identification.parameters import kes_values
 
 __all__ = ["write_material", "material_differences", "built_on_base"]
@@ -144,7 +143,7 @@ def built_on_base(path, base):
     """The material (SI) the base case builds with its ``[material]`` table replaced by
     ``path = <path>``."""
     base = Path(base)
-    data = tomllib.loads(base.read_text())
+    data = read_case_data(base)
     data["material"] = {"path": str(Path(path).resolve())}
     return build_material(parse_case(data, base_dir=base.parent))
 

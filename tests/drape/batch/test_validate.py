@@ -89,39 +89,3 @@ def test_a_folder_without_validation_cases_is_refused(tmp_path, capsys):
     assert validate_cli.main([str(tmp_path), "--out", str(tmp_path / "o")]) == 2
     assert "plain.toml: a validation case needs case.analysis = 'cusick' and a [measured] table" \
         in capsys.readouterr().err
-
-
-def test_validation_fabrics_let_down_keep_their_own_set_up(tmp_path):
-    """drape.batch.validation_lowered: each validation case gets the lowered case's support,
-    lowering and rigidity field, with the support half the fabric's thickness plus half the
-    barrier layer below it (as cusick_lowered.toml places it for its 0.30 mm fabric), and the
-    lowered set-up's shear rigidity G where its sheet gives none; it keeps its own tester,
-    fabric, mesh and measured values, and a G of its own."""
-    import tomllib
-
-    from drape.batch.validation_lowered import LOWERED, lowered_case, write_lowered_cases
-
-    lowered_toml = tomllib.loads(LOWERED.read_text())
-    lowered = load_case(LOWERED)
-    support = {b.name: b for b in lowered.contact.body}["support"]
-    assert support.point[2] == pytest.approx(-(0.5 * lowered.material.kes.thickness * 1e-3
-                                               + 0.5 * lowered.contact.dhat), abs=1e-12)
-    folder = write_lowered_cases(CASES, tmp_path / "lowered")
-    assert sorted(p.name for p in folder.glob("*.toml")) == sorted(p.name for p in CASES.glob("*.toml"))
-    for path in sorted(CASES.glob("*.toml")):
-        original = load_case(path)
-        case = load_case(folder / path.name)
-        body = {b.name: b for b in case.contact.body}["support"]
-        assert body.point[2] == pytest.approx(-(0.5 * original.material.kes.thickness * 1e-3
-                                                + 0.5 * case.contact.dhat), abs=1e-12)
-        assert body.path == support.path and body.mu == support.mu
-        assert case.model.rigidity_variation == lowered.model.rigidity_variation
-        assert case.load.gravity.ramp_time == 0.0
-        assert (case.mesh, case.measured) == (original.mesh, original.measured)
-        assert original.material.kes.G is None
-        assert case.material.kes.G == lowered.material.kes.G is not None
-        assert case.material.model_copy(update={"kes": original.material.kes}) == original.material
-        assert case.material.kes.model_copy(update={"G": None}) == original.material.kes
-    own = tomllib.loads(path.read_text())
-    own["material"]["kes"]["G"] = 1.2
-    assert lowered_case(own, lowered_toml)["material"]["kes"]["G"] == 1.2

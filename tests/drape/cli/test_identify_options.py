@@ -85,7 +85,7 @@ def test_a_scan_in_millimetres_is_told_the_option_identify_has(tmp_path, capsys,
 def test_resume_of_a_folder_without_an_identification_says_so(tmp_path, capsys):
     code, err = _run(["--resume", "--out", tmp_path], capsys)
     assert code == 2 and err == [f"error: --resume: {tmp_path} holds no identification (no "
-                                 f"{DEFINITION}); start one with SCAN ... --base CASE --out "
+                                 f"{DEFINITION}); start one with SCAN ... --out "
                                  f"{tmp_path}"]
 
 

@@ -159,7 +159,7 @@ def test_material_file_outside_the_kes_range_gives_the_laws_of_the_run(tmp_path)
 
 
 @pytest.mark.parametrize("argv, words", [
-    (["--out", "x"], "--base CASE is required"),
+    (["--out", "x"], "give the scans to identify from"),
     (["s.ply", "--base", str(ROOT / "cases" / "cusick_fabric1.toml"), "--out", "x"], "no such file"),
     (["--base", str(CASE), "--out", "x", "--box", "bending_length=3,1", "scan.ply"], "no such file"),
     (["--base", str(CASE), "--out", "x", "--converged-within", "1.5", str(CASE)],

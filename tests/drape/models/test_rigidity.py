@@ -99,7 +99,7 @@ def test_a_case_varies_the_rigidity_with_the_cv_it_asks_for():
     cv = float(np.sqrt(np.sum(w * (shell.rigidity - mean) ** 2))) / mean
     assert mean == pytest.approx(1.0, abs=0.05) and cv == pytest.approx(0.15, abs=0.05)
     with pytest.raises(CaseError, match="rigidity_variation.correlation_length"):
-        load_case("cases/cusick_kes.toml", ["model.rigidity_variation.cv=0.15"])
+        load_case("cases/cantilever.toml", ["model.rigidity_variation.cv=0.15"])
 
 
 def test_one_seed_is_one_specimen():
