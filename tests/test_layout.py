@@ -119,7 +119,7 @@ FUNCTION_LEVEL_IMPORTS = {
 }
 #: The command-line tools: ``drape COMMAND`` -> its ``python -m`` module.
 COMMANDS = {"run": "drape.run", "sweep": "drape.sweep", "report": "drape.report",
-            "validate": "drape.validate", "inspect": "drape.inspect", "measure": "drape.measure",
+            "validate": "drape.validate", "predict": "drape.predict", "inspect": "drape.inspect", "measure": "drape.measure",
             "identify": "drape.identify", "fit": "constitutive.fit",
             "datasets": "constitutive.datasets"}
 VERSION = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]

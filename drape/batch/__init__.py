@@ -12,17 +12,19 @@ sensitivity
     One-factor-at-a-time studies and the tornado chart.
 validation_set
     The validation cases simulated against their ``[measured]`` tables.
+prediction
+    A drape from a KES sheet with the interval its missing values and the seed leave.
 report
     A self-contained ``report.html`` of a sweep or a run.
 
 Studies built on them: ``cusick_sensitivity`` (the factors of a Cusick drape),
 ``fold_preference`` (drapes forced into n folds, by energy), ``matched_dc`` (a scanned fabric's
 B matched to its DC, the node counts compared), ``fold_law`` (the node count over the bending
-length against the fold-number law of Cerda, Mahadevan & Pasini), ``validation_lowered`` (the
-validation cases let down as the lowered case) and ``peirce_grip`` (the Peirce platform's grip at
+length against the fold-number law of Cerda, Mahadevan & Pasini) and ``peirce_grip`` (the Peirce platform's grip at
 rest).
 """
 from drape.batch.ensemble import ensemble_stats, ensembles, seed_rows
+from drape.batch.prediction import describe_prediction, missing_unknowns, sample_rows, summarise
 from drape.batch.report import write_report
 from drape.batch.rows import SweepError, SweepRow, read_results
 from drape.batch.sensitivity import Factor, Level, run_study
@@ -31,4 +33,4 @@ from drape.batch.validation_set import run_validation, validation_cases
 
 __all__ = ["SweepRow", "SweepError", "run_sweep", "read_results", "seed_rows", "ensembles",
            "ensemble_stats", "Factor", "Level", "run_study", "run_validation", "validation_cases",
-           "write_report"]
+           "write_report", "missing_unknowns", "sample_rows", "summarise", "describe_prediction"]

@@ -35,6 +35,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "report": ("drape.cli.report", "report.html of a sweep or a run (python -m drape.report)"),
     "validate": ("drape.cli.validate",
                  "the validation cases against their measurements (python -m drape.validate)"),
+    "predict": ("drape.cli.predict", "a Cusick drape from a KES sheet, with the interval its "
+                                     "missing values leave (python -m drape.predict)"),
     "inspect": ("drape.cli.inspect", "pictures of a finished run (python -m drape.inspect)"),
     "measure": ("drape.cli.measure", "a scanned drape measured like a simulated one "
                                      "(python -m drape.measure)"),
