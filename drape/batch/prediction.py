@@ -45,7 +45,7 @@ from drape.batch.ensemble import SEED_KEY
 from drape.batch.rows import SweepRow
 
 __all__ = ["Unknown", "UNKNOWNS", "missing_unknowns", "sample_rows", "summarise", "describe_prediction",
-           "LEVEL"]
+           "prediction_figure", "LEVEL"]
 
 #: The interval's probability: from the 5th to the 95th percentile of the samples.
 LEVEL = 0.90
@@ -185,3 +185,37 @@ def describe_prediction(p: dict) -> str:
     share = p["unknowns"][best]["variance_share"]
     return (line + f"\nmeasuring {UNKNOWNS[best].what} would narrow it most: {100 * share:.0f} % of "
             f"the DC's variance; the seed and the rest {100 * p['unexplained_share']:.0f} %")
+
+
+def prediction_figure(prediction: dict, rows: list[SweepRow], records: dict):
+    """The DC of each run against each sampled unknown (log scale; against the seed where none
+    was sampled), the interval shaded and the measured DC drawn where there is one.
+    ``records`` maps run names to their results.csv records. Returns a matplotlib ``Figure``
+    (not attached to pyplot)."""
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import NullFormatter, ScalarFormatter
+
+    names = list(prediction["unknowns"]) or ["seed"]
+    fig = Figure(figsize=(3.6 * len(names), 3.2), layout="constrained")
+    dc = prediction["DC_percent"]
+    for k, name in enumerate(names):
+        ax = fig.add_subplot(1, len(names), k + 1)
+        pts = [(i if name == "seed" else float(r.measured[f"unknown.{name}"]),
+                float(records[r.name]["DC_percent"])) for i, r in enumerate(rows)
+               if records.get(r.name, {}).get("DC_percent") not in (None, "")]
+        ax.scatter(*zip(*pts), s=18, color="C0")
+        ax.axhspan(dc["low"], dc["high"], color="C0", alpha=0.12,
+                   label=f"{100 * dc['level']:.0f} % interval")
+        if "measured" in prediction:
+            ax.axhline(prediction["measured"]["DC_percent"], color="C3", label="measured")
+        if name != "seed":
+            ax.set_xscale("log")
+            u = UNKNOWNS[name]
+            ax.set_xticks([v for v in (0.2, 0.3, 0.5, 0.7, 1.0, 1.5, 2.0) if u.low <= v <= u.high])
+            ax.xaxis.set_major_formatter(ScalarFormatter())
+            ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_xlabel(name if name == "seed" else f"{name} [{UNKNOWNS[name].unit}]")
+        ax.set_ylabel("DC [%]")
+        if k == 0:
+            ax.legend(fontsize=8)
+    return fig

@@ -15,8 +15,8 @@ import json
 import tomllib
 from pathlib import Path
 
-from drape.batch.prediction import (UNKNOWNS, describe_prediction, missing_unknowns, sample_rows,
-                                    summarise)
+from drape.batch.prediction import (UNKNOWNS, describe_prediction, missing_unknowns,
+                                    prediction_figure, sample_rows, summarise)
 from drape.batch.rows import SweepError, read_results
 from drape.batch.sweep import run_sweep
 from drape.case.case import CaseError, apply_overrides, load_case
@@ -87,28 +87,9 @@ def _predict(args, out: Path) -> tuple[dict, object]:
 
 
 def _figure(prediction: dict, rows, out: Path) -> Path:
-    import matplotlib.pyplot as plt
-
     records = {r["name"]: r for r in read_results(out / "results.csv")}
-    names = list(prediction["unknowns"]) or ["seed"]
-    fig, axes = plt.subplots(1, len(names), figsize=(3.6 * len(names), 3.2), squeeze=False)
-    dc = prediction["DC_percent"]
-    for ax, name in zip(axes[0], names):
-        pts = [(float(r.measured[f"unknown.{name}"]) if name != "seed" else i,
-                float(records[r.name]["DC_percent"])) for i, r in enumerate(rows)
-               if records.get(r.name, {}).get("DC_percent") not in (None, "")]
-        ax.scatter(*zip(*pts), s=18, color="C0")
-        ax.axhspan(dc["low"], dc["high"], color="C0", alpha=0.12, label=f"{100 * dc['level']:.0f} % interval")
-        if "measured" in prediction:
-            ax.axhline(prediction["measured"]["DC_percent"], color="C3", label="measured")
-        ax.set_xscale("log" if name != "seed" else "linear")
-        ax.set_xlabel(name if name == "seed" else f"{name} [{UNKNOWNS[name].unit}]")
-        ax.set_ylabel("DC [%]")
-    axes[0][0].legend(fontsize=8)
-    fig.tight_layout()
     path = out / "prediction.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    prediction_figure(prediction, rows, records).savefig(path, dpi=110)
     return path
 
 
