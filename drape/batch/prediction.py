@@ -50,6 +50,9 @@ __all__ = ["Unknown", "UNKNOWNS", "missing_unknowns", "sample_rows", "summarise"
 #: The interval's probability: from the 5th to the 95th percentile of the samples.
 LEVEL = 0.90
 
+#: The least share of the DC's variance for which measuring an unknown is advised.
+MATTERS = 0.10
+
 
 @dataclass(frozen=True)
 class Unknown:
@@ -183,6 +186,9 @@ def describe_prediction(p: dict) -> str:
         return line + (f"\n{p['runs']['used']} runs are too few to tell which missing value matters "
                        f"most (more than {len(p['unknowns']) + 1} are needed)")
     share = p["unknowns"][best]["variance_share"]
+    if share < MATTERS:
+        return line + (f"\nnone of the missing values explains much of it (the most, {UNKNOWNS[best].what}, "
+                       f"{100 * share:.0f} %): the seed's scatter is the interval")
     return (line + f"\nmeasuring {UNKNOWNS[best].what} would narrow it most: {100 * share:.0f} % of "
             f"the DC's variance; the seed and the rest {100 * p['unexplained_share']:.0f} %")
 

@@ -76,6 +76,14 @@ def test_the_interval_is_the_samples_percentiles_and_G_is_named_when_it_drives_t
     assert "measuring the shear rigidity G (KES-FB1) would narrow it most" in pred.describe_prediction(p)
 
 
+def test_an_unknown_that_explains_little_is_not_advised():
+    rows = pred.sample_rows(SHEET, ["shear_G"], 12, seed=2)
+    rng = np.random.default_rng(1)
+    p = pred.summarise(_records(rows, lambda r: 50 + rng.normal()), rows, ["shear_G"])
+    assert p["unknowns"]["shear_G"]["variance_share"] < pred.MATTERS
+    assert "the seed's scatter is the interval" in pred.describe_prediction(p)
+
+
 def test_too_few_runs_give_no_interval_and_too_few_to_rank_say_so():
     rows = pred.sample_rows(SHEET, ["shear_G", "anisotropy"], 3)
     with pytest.raises(ValueError, match="1 of 3 runs finished"):
