@@ -15,7 +15,7 @@ from drape.contact import shapes
 from drape.contact.bodies import ContactInputError, HalfSpace, RigidBody, Scene
 from drape.contact.contact import Contact
 from drape.contact.motion import RigidPath
-from drape.contact.stiffness import barrier_stiffness, resting_multiplicity
+from drape.contact.stiffness import barrier_stiffness, resting_distance, resting_multiplicity
 
 log = logging.getLogger(__name__)
 
@@ -101,7 +101,7 @@ def build_contact(spec, shell, material, u0=None) -> Contact:
         raise ContactInputError("contact.thickness: the material has no thickness; give contact.thickness")
     _check_size("contact", float(len(shell.w)) * float(spec.subdivision) ** 2, "contact.subdivision")
     points, triangles, dofs = shell.contact_vertices(spec.subdivision)
-    resting = 0.5 * thickness + 0.5 * spec.dhat     # where a flat specimen rests on a plane
+    resting = resting_distance(spec.dhat, 0.5 * thickness)     # where a flat specimen rests on a plane
     scene = Scene(points, triangles, [_body(b, resting) for b in spec.body], spec.self_contact, spec.pairs)
     kappa = spec.barrier_stiffness
     if kappa is None:

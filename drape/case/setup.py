@@ -12,7 +12,7 @@ key, an array replaces the set-up's array whole.
 The fabric is the case's alone, with one exception: a KES sheet (``[material.kes]``) takes
 the set-up's ``[material.kes]`` values for the keys it does not give. That is where a set-up
 states what it stands in for a sheet that omits a value (the in-plane shear G, say). A fabric
-given any other way (``name``, ``path``, ``laws``) takes nothing from the set-up's material.
+given any other way (``name``, ``path``) takes nothing from the set-up's material.
 
 >>> setup = {"solver": {"dt": 0.05, "t_end": 80.0}, "material": {"kes": {"G": 0.45}},
 ...          "contact": {"dhat": "1 mm", "body": [{"name": "support"}]}}

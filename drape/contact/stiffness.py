@@ -15,7 +15,17 @@ from __future__ import annotations
 import ipctk
 import numpy as np
 
-__all__ = ["barrier_stiffness", "resting_multiplicity"]
+__all__ = ["resting_distance", "barrier_stiffness", "resting_multiplicity"]
+
+
+def resting_distance(dhat: float, dmin: float = 0.0) -> float:
+    """Where a vertex carrying its share of the weight rests from a body: in the middle of the
+    barrier layer, ``dmin + dhat/2`` (:func:`barrier_stiffness` is chosen for it).
+
+    >>> resting_distance(1e-3, dmin=1.5e-4)
+    0.00065
+    """
+    return dmin + 0.5 * dhat
 
 
 def barrier_stiffness(force_per_vertex: float, dhat: float, dmin: float = 0.0) -> float:
@@ -33,7 +43,7 @@ def barrier_stiffness(force_per_vertex: float, dhat: float, dmin: float = 0.0) -
         raise ValueError(f"force_per_vertex must be > 0, got {force_per_vertex!r}")
     if not (np.isfinite(dhat) and dhat > 0) or not dmin >= 0:
         raise ValueError(f"dhat must be > 0 and dmin >= 0, got dhat = {dhat!r}, dmin = {dmin!r}")
-    d = dmin + 0.5 * dhat
+    d = resting_distance(dhat, dmin)
     unit = ipctk.barrier_force_magnitude(d * d, ipctk.ClampedLogBarrier(), dhat, 1.0, dmin)
     return float(force_per_vertex / abs(unit))
 
