@@ -72,13 +72,19 @@ UNKNOWNS: dict[str, Unknown] = {u.name: u for u in (
 )}
 
 
+def _same(a, b) -> bool:
+    """One value printed for both directions (the same to 6 digits: a value given in other
+    units converts with round-off)."""
+    return a is None or b is None or math.isclose(float(a), float(b), rel_tol=1e-6)
+
+
 def missing_unknowns(sheet: dict) -> list[str]:
     """The :data:`UNKNOWNS` the sheet (the case's own ``[material.kes]`` table, without what a
     set-up stands in) leaves open: no G, one B and one 2HB for both directions, no thickness."""
     out = []
     if "G" not in sheet:
         out.append("shear_G")
-    if sheet.get("B_warp") == sheet.get("B_weft") and sheet.get("HB2_warp") == sheet.get("HB2_weft"):
+    if all(_same(sheet.get(f"{k}_warp"), sheet.get(f"{k}_weft")) for k in ("B", "HB2")):
         out.append("anisotropy")
     if "thickness" not in sheet:
         out.append("thickness")

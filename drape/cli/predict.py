@@ -18,8 +18,9 @@ from pathlib import Path
 from drape.batch.prediction import (UNKNOWNS, describe_prediction, missing_unknowns,
                                     prediction_figure, sample_rows, summarise)
 from drape.batch.rows import SweepError, read_results
-from drape.batch.sweep import run_sweep
+from drape.batch.sweep import _read_definition, run_sweep
 from drape.case.case import CaseError, apply_overrides, load_case
+from drape.case.setup import SETUP_KEY
 from drape.cli.common import EXIT_CODES, EXIT_OK, Parser, add_batch_options, code_of, fail
 from drape.run.atomic import atomic_write_text
 from drape.run.messages import describe
@@ -50,12 +51,22 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
-def _sheet(case_path: Path, overrides: list[str]) -> dict:
-    """The case file's own ``[material.kes]`` (without what its set-up stands in), with ``--set``."""
+def _sheet(case_path: Path, overrides: list[str], case) -> dict:
+    """The values the case's own ``[material.kes]`` gives, with ``--set`` (not those its set-up
+    stands in), in KES units as the loaded case holds them (a string with units converted)."""
     data = tomllib.loads(case_path.read_text())
-    data.pop("setup", None)
+    data.pop(SETUP_KEY, None)
     apply_overrides(data, overrides)
-    return data.get("material", {}).get("kes", {})
+    given = data.get("material", {}).get("kes", {})
+    return {k: v for k, v in case.material.kes.model_dump().items() if k in given}
+
+
+def _same_samples(out: Path, rows) -> None:
+    """A resumed prediction must draw the samples it began with (the same sheet and --samples)."""
+    _, stored, _ = _read_definition(out)
+    if [(r.name, r.keys) for r in stored] != [(r.name, r.keys) for r in rows]:
+        raise SweepError(f"--resume: {out / 'sweep.json'} holds other samples (another sheet, "
+                         "--set, --unknowns or --samples); give the same options, or a new --out")
 
 
 def _predict(args, out: Path) -> tuple[dict, object]:
@@ -68,9 +79,11 @@ def _predict(args, out: Path) -> tuple[dict, object]:
     if case.case.analysis != "cusick" or case.material.kes is None:
         raise CaseError(f"{case_path}: drape predict needs a Cusick case (case.analysis = 'cusick') "
                         "whose fabric is a KES sheet ([material.kes])")
-    sheet = _sheet(case_path, args.overrides)
+    sheet = _sheet(case_path, args.overrides, case)
     unknowns = missing_unknowns(sheet) if args.unknowns is None else list(dict.fromkeys(args.unknowns))
     rows = sample_rows(sheet, unknowns, args.samples)
+    if args.resume:
+        _same_samples(out, rows)
     run_sweep(case_path, rows, out, overrides=args.overrides, scheduler=args.scheduler,
               workers=args.workers, resume=args.resume, quiet=args.quiet)
     prediction = summarise(read_results(out / "results.csv"), rows, unknowns)

@@ -124,6 +124,33 @@ def test_the_command_prints_the_interval_and_where_the_measurement_lies(tmp_path
     assert (tmp_path / "p" / "prediction.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_a_sheet_in_other_units_is_sampled_in_kes_units_and_a_resume_keeps_its_samples(
+        tmp_path, monkeypatch, capsys):
+    """B as a string with units is read as the loaded case holds it; a resume with another
+    --samples is refused before anything runs."""
+    seen = []
+
+    def stand_in(case_path, rows, out, **kwargs):
+        seen.append(rows)
+        from drape.batch.sweep import _write_definition
+        Path(out).mkdir(parents=True, exist_ok=True)
+        _write_definition(Path(out), str(case_path), rows, [])
+        return _stand_in_sweep(lambda r: 60.0 + int(r.keys[SEED_KEY]))(case_path, rows, out)
+
+    monkeypatch.setattr(predict_cli, "run_sweep", stand_in)
+    case = ROOT / "cases" / "validation" / "wool_tropical.toml"
+    out = tmp_path / "p"
+    unit_b = "material.kes.B_warp=\"6.5704555e-6 N*m\""             # 0.067 gf·cm²/cm
+    assert predict_cli.main([str(case), "--samples", "4", "--set", unit_b, "--out", str(out)]) == 0
+    warp = [float(r.keys["material.kes.B_warp"]) / math.sqrt(float(r.measured["unknown.anisotropy"]))
+            for r in seen[0]]
+    assert warp == pytest.approx([0.067] * 4, rel=1e-4)
+    capsys.readouterr()
+    assert predict_cli.main([str(case), "--samples", "5", "--set", unit_b, "--resume",
+                             "--out", str(out)]) == 2
+    assert "holds other samples" in capsys.readouterr().err and len(seen) == 1
+
+
 def test_the_command_takes_only_the_unknowns_it_is_given(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(predict_cli, "run_sweep", _stand_in_sweep(lambda r: 50.0 + int(r.keys[SEED_KEY])))
     case = ROOT / "cases" / "cusick_kes.toml"
