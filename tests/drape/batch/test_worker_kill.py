@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import os
 import signal
 import threading
@@ -94,6 +95,19 @@ def history(run_dir: Path) -> list[dict]:
         return list(csv.DictReader(fh))
 
 
+def same_history(a: list[dict], b: list[dict]) -> bool:
+    """Step by step the same run. Numbers agree to 1e-12: ipctk sums the barrier energy in a
+    parallel reduction whose order, and so whose last bit, changes from run to run; that energy
+    is reported, never fed back, so every other column is bit for bit equal."""
+    def close(x: str, y: str) -> bool:
+        try:
+            return x == y or math.isclose(float(x), float(y), rel_tol=1e-12, abs_tol=1e-300)
+        except ValueError:
+            return False
+    return len(a) == len(b) and all(
+        ra.keys() == rb.keys() and all(close(ra[k], rb[k]) for k in ra) for ra, rb in zip(a, b))
+
+
 # --------------------------------------------------------------------------- sweep
 def sweep_into(out: Path, tiny_cusick, kill: bool) -> Path | None:
     rows = sweep_rows.grid_rows(["material.bending_scale=1,2"])
@@ -117,7 +131,7 @@ def test_a_sweep_survives_a_worker_killed_mid_run(tmp_path, tiny_cusick):
     assert sorted(names) == ["run000", "run001"]               # every row, exactly once
     assert results(disturbed) == results(reference)
     assert all(r["status"] == "completed" for r in results(disturbed).values())
-    assert history(killed) == history(reference / "runs" / killed.name)
+    assert same_history(history(killed), history(reference / "runs" / killed.name))
 
 
 # --------------------------------------------------------------------------- identification
@@ -166,5 +180,5 @@ def test_an_identification_survives_a_worker_killed_mid_run(tmp_path, tiny_cusic
     assert got == evaluations(reference)
     assert found["answer"] == expected["answer"]
     # the killed run went on from its checkpoint: each of its steps is in its history once
-    assert history(killed) == history(reference / killed.relative_to(disturbed))
+    assert same_history(history(killed), history(reference / killed.relative_to(disturbed)))
     assert json.loads((disturbed / "pending.json").read_text()) == {}
