@@ -40,7 +40,7 @@ SCAN_COLUMNS = ["key", "fabric", "sample", "series", "number", "dc_percent", "no
                 *(f"a{k}_mm" for k in range(N_HARMONICS + 1)), "error", "warning"]
 #: Statistics of a group of scans (``fabrics.csv``, ``creep.csv``).
 SUMMARY_COLUMNS = ["scans", "dc_mean", "dc_std", "dc_min", "dc_max",
-                   "nodes_min", "nodes_max", "nodes_mode", "nodes_mean", "irregularity_mm"]
+                   "nodes_min", "nodes_max", "nodes_mode", "nodes_mean", "irregularity_mm", "a2_mm"]
 #: Columns of ``faces.csv``.
 FACE_COLUMNS = ["fabric", "specimens", "dc_up", "dc_down", "down_minus_up", "down_minus_up_std", "repeat"]
 #: The tables of :func:`fabric_tables`: file stem, title, leading columns.
@@ -114,7 +114,9 @@ def summarise(rows) -> dict:
             "dc_min": round(float(dc.min()), 2), "dc_max": round(float(dc.max()), 2),
             "nodes_min": min(nodes), "nodes_max": max(nodes), "nodes_mode": mode,
             "nodes_mean": round(float(np.mean(nodes)), 2),
-            "irregularity_mm": round(float(np.mean([r["irregularity_mm"] for r in rows])), 2)}
+            "irregularity_mm": round(float(np.mean([r["irregularity_mm"] for r in rows])), 2),
+            # the outline's elliptic (two-fold) part: where a fabric's anisotropy shows
+            "a2_mm": round(float(np.mean([r.get("a2_mm", np.nan) for r in rows])), 2)}
 
 
 def group(rows, key) -> list[dict]:

@@ -19,7 +19,8 @@ report
 
 Studies built on them: ``cusick_sensitivity`` (the factors of a Cusick drape),
 ``fold_preference`` (drapes forced into n folds, by energy), ``matched_dc`` (a scanned fabric's
-B matched to its DC, the node counts compared), ``fold_law`` (the node count over the bending
+B matched to its DC, the node counts compared), ``outline_anisotropy`` (its warp/weft ratio read
+from its outlines' elliptic harmonic, the node counts at it), ``fold_law`` (the node count over the bending
 length against the fold-number law of Cerda, Mahadevan & Pasini) and ``peirce_grip`` (the Peirce platform's grip at
 rest).
 """

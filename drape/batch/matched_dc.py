@@ -46,16 +46,20 @@ START_B = 0.05
 SLOPE = 20.0
 
 
-def fabric_keys(B: float, hb_ratio: float = 0.5, weight: float = 15.0) -> list[str]:
-    """``--set`` items of a fabric with equal warp and weft, in KES units.
+def fabric_keys(B: float, hb_ratio: float = 0.5, weight: float = 15.0, anisotropy: float = 1.0) -> list[str]:
+    """``--set`` items of a fabric, in KES units: warp and weft of geometric mean ``B`` and
+    ratio ``anisotropy`` = B_warp/B_weft, each with 2HB = ``hb_ratio`` B.
 
     >>> fabric_keys(0.1)   # doctest: +NORMALIZE_WHITESPACE
     ['material.kes.B_warp=0.1', 'material.kes.B_weft=0.1', 'material.kes.HB2_warp=0.05',
      'material.kes.HB2_weft=0.05', 'material.kes.weight=15']
+    >>> fabric_keys(0.1, anisotropy=4)   # doctest: +NORMALIZE_WHITESPACE
+    ['material.kes.B_warp=0.2', 'material.kes.B_weft=0.05', 'material.kes.HB2_warp=0.1',
+     'material.kes.HB2_weft=0.025', 'material.kes.weight=15']
     """
-    hb = hb_ratio * B
-    return [f"material.kes.B_warp={B:g}", f"material.kes.B_weft={B:g}",
-            f"material.kes.HB2_warp={hb:g}", f"material.kes.HB2_weft={hb:g}",
+    warp, weft = B * anisotropy ** 0.5, B / anisotropy ** 0.5
+    return [f"material.kes.B_warp={warp:g}", f"material.kes.B_weft={weft:g}",
+            f"material.kes.HB2_warp={hb_ratio * warp:g}", f"material.kes.HB2_weft={hb_ratio * weft:g}",
             f"material.kes.weight={weight:g}"]
 
 
