@@ -39,14 +39,21 @@ def main(argv=None) -> int:
                    help="B_warp/B_weft run for an elliptic fabric, increasing, each > 1")
     p.add_argument("--case", default=str(ROOT / "cases" / "cusick_lowered.toml"))
     p.add_argument("--workers", type=int, default=None)
+    p.add_argument("--fabrics", nargs="+", metavar="N", help="only these fabrics (default: every one)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides")
     args = p.parse_args(argv)
     if not (all(r > 1 for r in args.ratios) and args.ratios == sorted(set(args.ratios))):
         p.error(f"--ratios {args.ratios}: increasing, each > 1")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    table = study(read_fabrics(args.scans, out), read_matched(args.matched), args.case, args.seeds, out,
-                  args.workers, args.overrides, tuple(args.ratios))
+    fabrics = read_fabrics(args.scans, out)
+    if args.fabrics:
+        unknown = sorted(set(args.fabrics) - {f["fabric"] for f in fabrics})
+        if unknown:
+            p.error(f"--fabrics: no scans of fabric {', '.join(unknown)}")
+        fabrics = [f for f in fabrics if f["fabric"] in args.fabrics]
+    table = study(fabrics, read_matched(args.matched), args.case, args.seeds, out, args.workers,
+                  args.overrides, tuple(args.ratios))
     text = markdown(table, tuple(args.ratios))
     write_rows(table, text, out, "outline_anisotropy")
     nodes_figure(table).savefig(out / "nodes_at_matched_dc.png", dpi=120)
