@@ -44,8 +44,8 @@ import numpy as np
 from drape.batch.ensemble import SEED_KEY
 from drape.batch.rows import SweepRow
 
-__all__ = ["Unknown", "UNKNOWNS", "missing_unknowns", "sample_rows", "summarise", "describe_prediction",
-           "prediction_figure", "LEVEL"]
+__all__ = ["Unknown", "UNKNOWNS", "missing_unknowns", "sample_rows", "interval", "interval_line", "summarise",
+           "describe_prediction", "prediction_figure", "LEVEL"]
 
 #: The interval's probability: from the 5th to the 95th percentile of the samples.
 LEVEL = 0.90
@@ -136,6 +136,31 @@ def _shares(dc: np.ndarray, x: np.ndarray) -> np.ndarray:
     return beta[1:] ** 2 / np.var(dc)
 
 
+def interval(dc, nodes) -> dict:
+    """DC median and :data:`LEVEL` interval (its percentiles) and node range of a set of drapes.
+
+    >>> p = interval([60.0, 62.0, 64.0], [6, 7, 7])
+    >>> p["DC_percent"]["median"], round(p["DC_percent"]["low"], 2), (p["nodes"]["low"], p["nodes"]["high"])
+    (62.0, 60.2, (6, 7))
+    """
+    dc, nodes = np.asarray(dc, dtype=float), np.asarray(nodes, dtype=float)
+    tail = 50.0 * (1.0 - LEVEL)
+    low, mid, high = np.percentile(dc, [tail, 50.0, 100.0 - tail])
+    n_low, n_high = np.percentile(nodes, [tail, 100.0 - tail])
+    return {"DC_percent": {"median": float(mid), "low": float(low), "high": float(high),
+                           "level": LEVEL, "values": dc.tolist()},
+            "nodes": {"low": int(math.floor(n_low + 1e-9)), "high": int(math.ceil(n_high - 1e-9)),
+                      "values": nodes.astype(int).tolist()}}
+
+
+def interval_line(p: dict) -> str:
+    """``DC 63 % (57–68 %, 90 %), nodes 6–7`` of :func:`interval`'s entries."""
+    dc, nodes = p["DC_percent"], p["nodes"]
+    count = f"{nodes['low']}" if nodes["low"] == nodes["high"] else f"{nodes['low']}–{nodes['high']}"
+    return (f"DC {dc['median']:.0f} % ({dc['low']:.0f}–{dc['high']:.0f} %, {100 * dc['level']:.0f} %), "
+            f"nodes {count}")
+
+
 def summarise(records: list[dict], rows: list[SweepRow], unknowns: list[str]) -> dict:
     """The prediction from the sweep's ``results.csv`` records: DC median and interval, node
     counts, the unknowns' shares of the DC's variance and the one that would narrow it most.
@@ -152,16 +177,10 @@ def summarise(records: list[dict], rows: list[SweepRow], unknowns: list[str]) ->
     nodes = np.array([float(r["nodes"]) for r in good])
     x = np.array([[math.log(float(by_name[r["name"]].measured[f"unknown.{u}"])) for u in unknowns]
                   for r in good]).reshape(len(good), len(unknowns))
-    tail = 50.0 * (1.0 - LEVEL)
-    low, mid, high = np.percentile(dc, [tail, 50.0, 100.0 - tail])
-    n_low, n_high = np.percentile(nodes, [tail, 100.0 - tail])
     shares = _shares(dc, x)
     ranked = sorted(((float(s), u) for s, u in zip(shares, unknowns) if np.isfinite(s)), reverse=True)
     return {
-        "DC_percent": {"median": float(mid), "low": float(low), "high": float(high),
-                       "level": LEVEL, "values": dc.tolist()},
-        "nodes": {"low": int(math.floor(n_low + 1e-9)), "high": int(math.ceil(n_high - 1e-9)),
-                  "values": nodes.astype(int).tolist()},
+        **interval(dc, nodes),
         "runs": {"used": len(good), "of": len(records)},
         "unknowns": {u: {"range": [UNKNOWNS[u].low, UNKNOWNS[u].high], "unit": UNKNOWNS[u].unit,
                          "variance_share": float(s) if np.isfinite(s) else None}
@@ -181,10 +200,7 @@ def describe_prediction(p: dict) -> str:
     DC 63 % (57–68 %, 90 %), nodes 6–7 (12 of 12 runs)
     measuring the shear rigidity G (KES-FB1) would narrow it most: 60 % of the DC's variance; the seed and the rest 40 %
     """
-    dc, nodes = p["DC_percent"], p["nodes"]
-    count = f"{nodes['low']}" if nodes["low"] == nodes["high"] else f"{nodes['low']}–{nodes['high']}"
-    line = (f"DC {dc['median']:.0f} % ({dc['low']:.0f}–{dc['high']:.0f} %, {100 * dc['level']:.0f} %), "
-            f"nodes {count} ({p['runs']['used']} of {p['runs']['of']} runs)")
+    line = f"{interval_line(p)} ({p['runs']['used']} of {p['runs']['of']} runs)"
     best = p["most_informative"]
     if not p["unknowns"]:
         return line + "\nthe sheet leaves nothing open: the interval is the seed's scatter alone"

@@ -16,6 +16,7 @@ from __future__ import annotations
 import json
 import time
 
+from drape.batch.prediction import interval, interval_line
 from drape.case.build import build_material
 from drape.case.case import load_case
 from drape.identification.material_file import write_material
@@ -25,7 +26,7 @@ from drape.identification.report import simulated_measurements, write_report
 from drape.identification.store import Evaluation, append_evaluation, read_evaluations
 from drape.identification.surrogate import WITHIN, Surrogate
 
-__all__ = ["FINAL", "INTERVAL_RULE", "MATCHED_Z", "finish", "material_file"]
+__all__ = ["FINAL", "INTERVAL_RULE", "MATCHED_Z", "finish", "material_file", "predictive_interval"]
 
 #: ``|z_DC|`` up to which the identified point's drapes count as matching the scans' DC.
 MATCHED_Z = 2.0
@@ -101,9 +102,13 @@ def finish(search, found: dict, forward, scans, weight: float, thickness, defini
     result["matched"] = bool(abs(m["z_DC"]) <= MATCHED_Z)
     warn = "" if result["matched"] else (f"NOT MATCHED (the identified point's DC is over "
                                          f"{MATCHED_Z:g} sd of the scans' scatter off), ")
+    result["prediction"] = predictive_interval(found.get("evaluations", []), final, answer["intervals"])
     result["summary_line"] = (f"{warn}identified: {params}; DC {final.drapes.dc.mean():.1f} % against "
                               f"{search.target.dc.mean():.1f} %, nodes {final.drapes.nodes.tolist()}"
-                              f" against {search.target.nodes.tolist()}, J = {m.J:.2f}")
+                              f" against {search.target.nodes.tolist()}, J = {m.J:.2f}\n"
+                              f"predicted: {interval_line(result['prediction'])} (the "
+                              f"{result['prediction']['drapes']} drapes of the "
+                              f"{result['prediction']['points']} points run within the intervals)")
     history = found["history"] + [{"name": FINAL, "point": answer["point"], **m}]
     surrogate_for_map = _refit(search, found)
     write_report(search.out, result, scans, simulated_measurements(final), history,
@@ -113,6 +118,22 @@ def finish(search, found: dict, forward, scans, weight: float, thickness, defini
                          "forward_runs_worker_total": result["seconds"]["forward_runs_worker_total"]}
     (search.out / "identified.json").write_text(json.dumps(result, indent=1))
     return result
+
+
+def predictive_interval(evaluations, final: Evaluation, intervals: dict) -> dict:
+    """The identified fabric's predicted drape, in :func:`drape.batch.prediction.interval`'s form.
+
+    Every drape of the points run within the identified intervals of each free parameter (the
+    final point's among them): the seeds' scatter and the parameters' uncertainty together, with
+    no run of its own. ``points`` and ``drapes`` count what it stands on.
+    """
+    def within(e) -> bool:
+        return all(iv["low"] <= e.point[k] <= iv["high"] for k, iv in intervals.items())
+
+    inside = [e for e in evaluations if e is not final and within(e) and e.point != final.point]
+    drapes = [d for e in [final, *inside] for d in e.drapes.drapes]
+    return {**interval([d.dc for d in drapes], [d.nodes for d in drapes]),
+            "points": 1 + len(inside), "drapes": len(drapes)}
 
 
 def _run_case(definition: dict, point: dict, weight: float):

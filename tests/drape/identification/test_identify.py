@@ -221,6 +221,10 @@ def test_the_models_own_drapes_are_identified_back_after_a_kill(
     assert c == pytest.approx(TRUE_C, rel=0.15)
     iv = result["intervals"]["bending_length"]
     assert iv["low"] <= c <= iv["high"]
+    # the predicted drape stands on the final point's drapes at least, and holds them
+    p = result["prediction"]
+    assert p["points"] >= 1 and p["drapes"] >= result["simulated"]["drapes"]
+    assert p["DC_percent"]["low"] <= p["DC_percent"]["median"] <= p["DC_percent"]["high"]
     from constitutive.material import load_material
     assert load_material(out / "material.toml").areal_mass == pytest.approx(0.125)
     page = (out / "report.html").read_text()
