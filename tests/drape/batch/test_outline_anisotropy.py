@@ -83,3 +83,12 @@ def test_matched_B_is_read_from_either_column(tmp_path):
     (tmp_path / "b.csv").write_text("fabric,B\n3,0.2\n")
     assert oa.read_matched(tmp_path / "a.csv") == {"1": 0.05}
     assert oa.read_matched(tmp_path / "b.csv") == {"3": 0.2}
+
+
+def test_the_scan_tables_carry_each_fabrics_mean_a2():
+    from drape.analyses.scan_set import SUMMARY_COLUMNS, fabric_tables
+    rows = [{"fabric": f, "sample": s, "series": "capture", "number": 1, "dc_percent": 50.0, "nodes": 7,
+             "irregularity_mm": 9.0, "a2_mm": a2, "error": ""}
+            for f, s, a2 in ((1, 1, 4.0), (1, 2, 6.0), (2, 1, 1.0))]
+    fabrics = fabric_tables(rows)["fabrics"]
+    assert "a2_mm" in SUMMARY_COLUMNS and [f["a2_mm"] for f in fabrics] == [5.0, 1.0]
