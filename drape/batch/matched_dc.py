@@ -30,8 +30,8 @@ from drape.analyses.scan_set import describe_scans, fabric_tables, write_tables
 from drape.batch.rows import SweepRow, read_results
 from drape.batch.sweep import run_sweep
 
-__all__ = ["LAWS", "GRIDS", "START_B", "SLOPE", "fabric_keys", "read_fabrics", "read_start", "sweep",
-           "dc_curve", "matched_B", "compare", "secant_B", "secant_match", "compare_secant",
+__all__ = ["LAWS", "GRIDS", "START_B", "SLOPE", "fabric_keys", "sweep_row", "read_fabrics", "read_start", "sweep",
+           "finished_runs", "dc_curve", "matched_B", "compare", "secant_B", "secant_match", "compare_secant",
            "table_row", "mode_within", "markdown", "nodes_figure", "write_rows", "write_table"]
 
 #: Friction law → its case overrides.
@@ -63,7 +63,8 @@ def fabric_keys(B: float, hb_ratio: float = 0.5, weight: float = 15.0, anisotrop
             f"material.kes.weight={weight:g}"]
 
 
-def _row(name: str, items) -> SweepRow:
+def sweep_row(name: str, items) -> SweepRow:
+    """A run table's row ``name`` of ``KEY=VALUE`` items (:func:`fabric_keys`)."""
     return SweepRow(name, dict(o.split("=", 1) for o in items))
 
 
@@ -94,7 +95,7 @@ def sweep(case, rows, out: Path, workers, overrides) -> None:
               resume=(out / "results.csv").exists(), quiet=False)
 
 
-def _finished(folder: Path):
+def finished_runs(folder: Path):
     """The finished runs of the sweep in ``folder``, their ``run_dir`` made absolute."""
     records = read_results(folder / "results.csv")
     return [{**r, "run_dir": str(folder / r["run_dir"]) if r.get("run_dir") else ""}
@@ -103,9 +104,9 @@ def _finished(folder: Path):
 
 def dc_curve(case, law: str, out: Path, workers, overrides) -> tuple[np.ndarray, np.ndarray]:
     """(B, DC %) of the law's grid (seed 0), sorted by B; the runs go to ``out``."""
-    rows = [_row(f"B{B:.5g}", fabric_keys(B) + LAWS[law]) for B in GRIDS[law]]
+    rows = [sweep_row(f"B{B:.5g}", fabric_keys(B) + LAWS[law]) for B in GRIDS[law]]
     sweep(case, rows, out, workers, overrides)
-    recs = _finished(out)
+    recs = finished_runs(out)
     B = np.array([float(r["material.kes.B_warp"]) for r in recs])
     dc = np.array([float(r["DC_percent"]) for r in recs])
     order = np.argsort(B)
@@ -153,9 +154,9 @@ def compare(fabrics, case, laws, seeds: int, out: Path, workers, overrides=()) -
                 continue
             keys = fabric_keys(float(f"{Bm:.4g}")) + LAWS[law]
             for seed in range(seeds if law == laws[0] else 1):
-                rows.append(_row(f"fabric{fab['fabric']}_s{seed}", keys + [f"load.perturbation.seed={seed}"]))
+                rows.append(sweep_row(f"fabric{fab['fabric']}_s{seed}", keys + [f"load.perturbation.seed={seed}"]))
         sweep(case, rows, out / f"matched_{law}", workers, list(overrides))
-        recs = _finished(out / f"matched_{law}")
+        recs = finished_runs(out / f"matched_{law}")
         table += [table_row(fab, law, target[fab["fabric"]], _runs_of(recs, fab["fabric"]))
                   for fab in fabrics]
     return table
@@ -211,9 +212,9 @@ def secant_match(fabrics, case, start: dict, out: Path, workers, overrides, iter
     for k in range(iterations):
         if not todo:
             break
-        sweep(case, [_row(f"fabric{f}", fabric_keys(B[f])) for f in todo], out / f"secant_{k}",
+        sweep(case, [sweep_row(f"fabric{f}", fabric_keys(B[f])) for f in todo], out / f"secant_{k}",
               workers, list(overrides))
-        recs = {r["name"]: r for r in _finished(out / f"secant_{k}")}
+        recs = {r["name"]: r for r in finished_runs(out / f"secant_{k}")}
         for f in list(todo):
             rec = recs.get(f"fabric{f}")
             if rec is None:                    # stopped: no step from here
@@ -235,11 +236,11 @@ def compare_secant(fabrics, case, start: dict, seeds: int, out: Path, workers, o
     """As :func:`compare` for the tensor law, B matched by :func:`secant_match`; the matched
     run is seed 0, seeds 1 … seeds-1 run at the same B (``out/seeds/``)."""
     best = secant_match(fabrics, case, start, out, workers, overrides, iterations, tol)
-    rows = [_row(f"fabric{f}_s{seed}", fabric_keys(Bm) + [f"load.perturbation.seed={seed}"])
+    rows = [sweep_row(f"fabric{f}_s{seed}", fabric_keys(Bm) + [f"load.perturbation.seed={seed}"])
             for f, (Bm, _) in best.items() for seed in range(1, seeds)]
     if rows:
         sweep(case, rows, out / "seeds", workers, list(overrides))
-    recs = _finished(out / "seeds") if rows else []
+    recs = finished_runs(out / "seeds") if rows else []
     table = []
     for fab in fabrics:
         B, matched = best.get(fab["fabric"], (None, None))

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from drape.batch.ensemble import seed_rows
-from drape.batch.matched_dc import _finished, _row, fabric_keys, sweep, table_row
+from drape.batch.matched_dc import fabric_keys, finished_runs, sweep, sweep_row, table_row
 
 __all__ = ["RATIOS", "read_matched", "run_a2_mm", "ratio_from_a2", "study", "markdown"]
 
@@ -83,7 +83,7 @@ def _name(fabric) -> str:
 def _by_row(folder: Path) -> dict[str, list[dict]]:
     """The finished runs of a seeded sweep, by row (``<row>.s<seed>``)."""
     runs: dict[str, list[dict]] = {}
-    for rec in _finished(folder):
+    for rec in finished_runs(folder):
         runs.setdefault(rec["name"].rsplit(".s", 1)[0], []).append(rec)
     return runs
 
@@ -126,10 +126,10 @@ def study(fabrics, matched: dict, case, seeds: int, out, workers=None, overrides
     out = Path(out)
     fabrics = [f for f in fabrics if f["fabric"] in matched]
     B = {f["fabric"]: matched[f["fabric"]] for f in fabrics}
-    iso = _run(case, [_row(_name(f), fabric_keys(b)) for f, b in B.items()], seeds,
+    iso = _run(case, [sweep_row(_name(f), fabric_keys(b)) for f, b in B.items()], seeds,
                out / "isotropic", workers, overrides)
     elliptic = [f for f in fabrics if float(f["a2_mm"]) > _mean_a2(iso.get(_name(f["fabric"]), []))]
-    calibration = _run(case, [_row(f"{_name(f['fabric'])}_r{r:g}", fabric_keys(B[f["fabric"]], anisotropy=r))
+    calibration = _run(case, [sweep_row(f"{_name(f['fabric'])}_r{r:g}", fabric_keys(B[f["fabric"]], anisotropy=r))
                               for f in elliptic for r in ratios], seeds, out / "ratios", workers, overrides)
     read = {}
     for f in fabrics:
@@ -137,7 +137,7 @@ def study(fabrics, matched: dict, case, seeds: int, out, workers=None, overrides
         curve = [_mean_a2(iso.get(name, []))]
         curve += [_mean_a2(calibration.get(f"{name}_r{r:g}", [])) for r in ratios] if f in elliptic else []
         read[f["fabric"]] = (*ratio_from_a2(float(f["a2_mm"]), [1.0, *ratios][:len(curve)], curve), curve)
-    between = [_row(_name(f), fabric_keys(B[f], anisotropy=r)) for f, (r, how, _) in read.items()
+    between = [sweep_row(_name(f), fabric_keys(B[f], anisotropy=r)) for f, (r, how, _) in read.items()
                if how == "read" and not any(np.isclose(r, x) for x in ratios)]
     at_read = _run(case, between, seeds, out / "read", workers, overrides)
     table = []
