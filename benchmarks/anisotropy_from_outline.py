@@ -22,7 +22,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from drape.batch.matched_dc import mode_within, nodes_figure, read_fabrics, write_rows
+from drape.batch.matched_dc import mode_within, nodes_figure, select_fabrics, write_rows
 from drape.batch.outline_anisotropy import RATIOS, markdown, read_matched, study
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -45,13 +45,10 @@ def main(argv=None) -> int:
     if not (all(r > 1 for r in args.ratios) and args.ratios == sorted(set(args.ratios))):
         p.error(f"--ratios {args.ratios}: increasing, each > 1")
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    fabrics = read_fabrics(args.scans, out)
-    if args.fabrics:
-        unknown = sorted(set(args.fabrics) - {f["fabric"] for f in fabrics})
-        if unknown:
-            p.error(f"--fabrics: no scans of fabric {', '.join(unknown)}")
-        fabrics = [f for f in fabrics if f["fabric"] in args.fabrics]
+    try:
+        fabrics = select_fabrics(args.scans, out, args.fabrics)
+    except ValueError as exc:
+        p.error(str(exc))
     table = study(fabrics, read_matched(args.matched), args.case, args.seeds, out, args.workers,
                   args.overrides, tuple(args.ratios))
     text = markdown(table, tuple(args.ratios))

@@ -38,8 +38,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from drape.batch.matched_dc import (LAWS, START_B, compare, compare_secant, mode_within, read_fabrics,
-                                    read_start, write_table)
+from drape.batch.matched_dc import (LAWS, START_B, compare, compare_secant, mode_within, read_start,
+                                    select_fabrics, write_table)
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -66,13 +66,10 @@ def main(argv=None) -> int:
                    help="override a case key in every run (e.g. load.gravity.ramp_time=0.5)")
     args = p.parse_args(argv)
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    fabrics = read_fabrics(args.scans, out)
-    if args.fabrics:
-        unknown = sorted(set(args.fabrics) - {f["fabric"] for f in fabrics})
-        if unknown:
-            p.error(f"--fabrics: no scans of fabric {', '.join(unknown)}")
-        fabrics = [f for f in fabrics if f["fabric"] in args.fabrics]
+    try:
+        fabrics = select_fabrics(args.scans, out, args.fabrics)
+    except ValueError as exc:
+        p.error(str(exc))
     if args.match == "secant":
         start = read_start(args.start) if args.start else {}
         table = compare_secant(fabrics, args.case, start, args.seeds, out, args.workers,

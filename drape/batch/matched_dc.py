@@ -30,9 +30,10 @@ from drape.analyses.scan_set import describe_scans, fabric_tables, write_tables
 from drape.batch.rows import SweepRow, read_results
 from drape.batch.sweep import run_sweep
 
-__all__ = ["LAWS", "GRIDS", "START_B", "SLOPE", "fabric_keys", "sweep_row", "read_fabrics", "read_start", "sweep",
-           "finished_runs", "dc_curve", "matched_B", "compare", "secant_B", "secant_match", "compare_secant",
-           "table_row", "mode_within", "markdown", "nodes_figure", "write_rows", "write_table"]
+__all__ = ["LAWS", "GRIDS", "START_B", "SLOPE", "fabric_keys", "sweep_row", "read_fabrics", "select_fabrics",
+           "read_start", "sweep", "finished_runs", "dc_curve", "matched_B", "compare", "secant_B",
+           "secant_match", "compare_secant", "table_row", "mode_within", "markdown", "nodes_figure",
+           "write_rows", "write_table"]
 
 #: Friction law → its case overrides.
 LAWS = {"tensor": [], "per_direction": ["model.bending_friction=per_direction"]}
@@ -81,6 +82,25 @@ def read_fabrics(scans, out) -> list[dict]:
         write_tables(folder, rows, fabric_tables(rows))
     with open(folder / "fabrics.csv", newline="") as fh:
         return list(csv.DictReader(fh))
+
+
+def select_fabrics(scans, out, wanted=None) -> list[dict]:
+    """:func:`read_fabrics` into ``out`` (made if missing), only the fabrics named in
+    ``wanted`` (every one when it is empty or None).
+
+    Raises
+    ------
+    ValueError
+        When ``wanted`` names a fabric without scans.
+    """
+    Path(out).mkdir(parents=True, exist_ok=True)
+    fabrics = read_fabrics(scans, out)
+    if not wanted:
+        return fabrics
+    unknown = sorted(set(wanted) - {f["fabric"] for f in fabrics})
+    if unknown:
+        raise ValueError(f"--fabrics: no scans of fabric {', '.join(unknown)}")
+    return [f for f in fabrics if f["fabric"] in wanted]
 
 
 def read_start(path) -> dict:

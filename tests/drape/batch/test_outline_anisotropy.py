@@ -92,3 +92,13 @@ def test_the_scan_tables_carry_each_fabrics_mean_a2():
             for f, s, a2 in ((1, 1, 4.0), (1, 2, 6.0), (2, 1, 1.0))]
     fabrics = fabric_tables(rows)["fabrics"]
     assert "a2_mm" in SUMMARY_COLUMNS and [f["a2_mm"] for f in fabrics] == [5.0, 1.0]
+
+
+def test_only_the_fabrics_asked_for_and_none_without_scans(tmp_path, monkeypatch):
+    from drape.batch import matched_dc
+    monkeypatch.setattr(matched_dc, "read_fabrics", lambda scans, out: [{"fabric": "1"}, {"fabric": "4"}])
+    assert matched_dc.select_fabrics("s.npz", tmp_path / "new", None) == [{"fabric": "1"}, {"fabric": "4"}]
+    assert (tmp_path / "new").is_dir()
+    assert matched_dc.select_fabrics("s.npz", tmp_path, ["4"]) == [{"fabric": "4"}]
+    with pytest.raises(ValueError, match="no scans of fabric 7"):
+        matched_dc.select_fabrics("s.npz", tmp_path, ["4", "7"])
