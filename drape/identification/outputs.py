@@ -130,7 +130,7 @@ def predictive_interval(evaluations, final: Evaluation, intervals: dict) -> dict
     def within(e) -> bool:
         return all(iv["low"] <= e.point[k] <= iv["high"] for k, iv in intervals.items())
 
-    inside = [e for e in evaluations if e is not final and within(e) and e.point != final.point]
+    inside = [e for e in evaluations if e.point != final.point and within(e)]
     drapes = [d for e in [final, *inside] for d in e.drapes.drapes]
     return {**interval([d.dc for d in drapes], [d.nodes for d in drapes]),
             "points": 1 + len(inside), "drapes": len(drapes)}
