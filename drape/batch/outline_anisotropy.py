@@ -58,7 +58,9 @@ def ratio_from_a2(a2: float, ratios, model_a2) -> tuple[float, str]:
     ``ratios`` starts at 1 (isotropic) and grows; ``model_a2`` are the model's mean ``a2`` at
     them. Linear in ln(ratio) on the running maximum of ``model_a2``: at or below the isotropic
     runs' ``a2`` the ratio is 1 (``"isotropic"``: the outline shows no anisotropy), beyond the
-    largest ratio's it is that ratio (``"at least"``), else ``"read"``.
+    largest ratio's it is that ratio (``"at least"``), else ``"read"``. A ratio whose ``a2`` is
+    NaN (none of its runs finished) is passed over; without the isotropic runs' ``a2`` nothing
+    is read: NaN, ``"no runs"``.
 
     >>> ratio_from_a2(2.0, [1, 2, 4], [3.0, 5.0, 9.0])
     (1.0, 'isotropic')
@@ -66,9 +68,15 @@ def ratio_from_a2(a2: float, ratios, model_a2) -> tuple[float, str]:
     (2.828427, 'read')
     >>> ratio_from_a2(12.0, [1, 2, 4], [3.0, 5.0, 9.0])
     (4.0, 'at least')
+    >>> ratio_from_a2(7.0, [1], [float("nan")])
+    (nan, 'no runs')
     """
-    r = np.asarray(ratios, dtype=float)
-    mono = np.maximum.accumulate(np.asarray(model_a2, dtype=float))
+    a2_model = np.asarray(model_a2, dtype=float)
+    if not np.isfinite(a2_model[0]):
+        return float("nan"), "no runs"
+    known = np.isfinite(a2_model)   # a ratio none of whose runs finished is passed over
+    r = np.asarray(ratios, dtype=float)[known]
+    mono = np.maximum.accumulate(a2_model[known])
     if a2 <= mono[0]:
         return 1.0, "isotropic"
     if a2 >= mono[-1]:
@@ -128,14 +136,17 @@ def study(fabrics, matched: dict, case, seeds: int, out, workers=None, overrides
     B = {f["fabric"]: matched[f["fabric"]] for f in fabrics}
     iso = _run(case, [sweep_row(_name(f), fabric_keys(b)) for f, b in B.items()], seeds,
                out / "isotropic", workers, overrides)
-    elliptic = [f for f in fabrics if float(f["a2_mm"]) > _mean_a2(iso.get(_name(f["fabric"]), []))]
-    calibration = _run(case, [sweep_row(f"{_name(f['fabric'])}_r{r:g}", fabric_keys(B[f["fabric"]], anisotropy=r))
-                              for f in elliptic for r in ratios], seeds, out / "ratios", workers, overrides)
+    # a fabric without a finished isotropic run compares False with its NaN and is not calibrated
+    elliptic = {f["fabric"] for f in fabrics if float(f["a2_mm"]) > _mean_a2(iso.get(_name(f["fabric"]), []))}
+    calibration = _run(case, [sweep_row(f"{_name(f)}_r{r:g}", fabric_keys(B[f], anisotropy=r))
+                              for f in B if f in elliptic for r in ratios], seeds, out / "ratios", workers,
+                       overrides)
     read = {}
     for f in fabrics:
         name = _name(f["fabric"])
         curve = [_mean_a2(iso.get(name, []))]
-        curve += [_mean_a2(calibration.get(f"{name}_r{r:g}", [])) for r in ratios] if f in elliptic else []
+        if f["fabric"] in elliptic:
+            curve += [_mean_a2(calibration.get(f"{name}_r{r:g}", [])) for r in ratios]
         read[f["fabric"]] = (*ratio_from_a2(float(f["a2_mm"]), [1.0, *ratios][:len(curve)], curve), curve)
     between = [sweep_row(_name(f), fabric_keys(B[f], anisotropy=r)) for f, (r, how, _) in read.items()
                if how == "read" and not any(np.isclose(r, x) for x in ratios)]
@@ -144,8 +155,10 @@ def study(fabrics, matched: dict, case, seeds: int, out, workers=None, overrides
     for fab in fabrics:
         r, how, curve = read[fab["fabric"]]
         name = _name(fab["fabric"])
-        runs = (iso.get(name, []) if how == "isotropic" else at_read.get(name)
-                or calibration.get(f"{name}_r{min(ratios, key=lambda x: abs(x - r)):g}", []))
+        if how in ("isotropic", "no runs"):
+            runs = iso.get(name, [])
+        else:
+            runs = at_read.get(name) or calibration.get(f"{name}_r{min(ratios, key=lambda x: abs(x - r)):g}", [])
         table.append({**table_row(fab, "tensor", B[fab["fabric"]], runs), "anisotropy": r, "reading": how,
                       "measured_a2_mm": float(fab["a2_mm"]), "model_a2_mm": " ".join(f"{a:.1f}" for a in curve)})
     return table
@@ -159,7 +172,7 @@ def markdown(table: list[dict], ratios=RATIOS) -> str:
              "|---|---|---|---|---|---|---|---|---|"]
     for r in table:
         dc = "–" if r["model_DC"] is None else f"{r['model_DC']:.1f}"
-        ratio = {"isotropic": "1 (no sign)", "at least": f"≥ {r['anisotropy']:g}"}.get(
+        ratio = {"isotropic": "1 (no sign)", "at least": f"≥ {r['anisotropy']:g}", "no runs": "–"}.get(
             r["reading"], f"{r['anisotropy']:.2f}")
         lines.append(f"| {r['fabric']} | {r['measured_DC']:.1f} ± {r['measured_DC_std']:.1f} | "
                      f"{r['measured_nodes_min']}–{r['measured_nodes_max']} | {r['measured_a2_mm']:.1f} | "

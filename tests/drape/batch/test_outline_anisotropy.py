@@ -20,6 +20,7 @@ def a2_law(ratio: float) -> float:
 def swept(monkeypatch):
     """Replace the forward runs by stand-ins; returns the rows each sweep folder was given."""
     given = {}
+    failing = ("fabric09.",)    # the isotropic runs of fabric 9 do not finish
 
     def sweep(case, rows, out, workers, overrides):
         given.setdefault(out.name, []).extend(r.name for r in rows)
@@ -32,7 +33,8 @@ def swept(monkeypatch):
             harmonics = [0.12, 0.0, 1e-3 * a2_law(ratio)]
             (run / "summary.json").write_text(json.dumps({"analysis": {"outline_harmonics_m": harmonics,
                                                                       "n_nodes": 2 if ratio > 3 else 8}}))
-            records.append({"name": row.name, "status": "settled", "DC_percent": 50.0,
+            status = "failed" if row.name.startswith(failing) else "settled"
+            records.append({"name": row.name, "status": status, "DC_percent": 50.0,
                             "nodes": 2 if ratio > 3 else 8, "run_dir": f"runs/{row.name}"})
         with open(out / "results.csv", "w", newline="") as fh:
             writer = csv.DictWriter(fh, list(records[0]))
@@ -71,11 +73,26 @@ def test_each_fabric_gets_the_ratio_its_outline_shows(tmp_path, swept):
     assert "| 1 (no sign) |" in text and "| ≥ 4 |" in text and "| 2.72 |" in text
 
 
+def test_a_fabric_without_a_finished_isotropic_run_is_not_read(tmp_path, swept):
+    table = oa.study([fabric(9, 6.0), fabric(2, a2_law(math.e))], {"9": 0.1, "2": 0.1}, "case.toml", 2,
+                     tmp_path)
+    by = {r["fabric"]: r for r in table}
+    assert by["9"]["reading"] == "no runs" and math.isnan(by["9"]["anisotropy"])
+    assert by["9"]["runs"] == 0 and by["9"]["model_a2_mm"] == "nan"
+    # no run at another ratio, nor at a NaN one
+    assert not any(name.startswith("fabric09") for folder in ("ratios", "read") for name in swept.get(folder, []))
+    assert by["2"]["reading"] == "read"
+    assert "| 9 | 50.0 ± 1.0 | 2–3 | 6.0 | nan | – |" in oa.markdown(table)
+
+
 def test_the_ratio_is_read_on_the_running_maximum():
     ratio, how = oa.ratio_from_a2(4.0, [1, 2, 4], [3.0, 2.5, 5.0])
     # the dip at ratio 2 is read as 3.0: a2 = 4 lies half-way from ratio 2 to 4 in ln(ratio)
     assert how == "read" and ratio == pytest.approx(2 ** 1.5, rel=1e-12)
     assert oa.ratio_from_a2(3.0, [1, 2, 4], [3.0, 5.0, 9.0]) == (1.0, "isotropic")
+    # a ratio none of whose runs finished is passed over: read between ratios 1 and 4
+    ratio, how = oa.ratio_from_a2(7.0, [1, 2, 4], [3.0, float("nan"), 11.0])
+    assert how == "read" and ratio == pytest.approx(2.0, rel=1e-12)
 
 
 def test_matched_B_is_read_from_either_column(tmp_path):
