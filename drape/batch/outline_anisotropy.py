@@ -129,7 +129,9 @@ def study(fabrics, matched: dict, case, seeds: int, out, workers=None, overrides
     -------
     list of dict
         :func:`drape.batch.matched_dc.table_row` at the fabric's ratio, with ``anisotropy``,
-        ``reading``, ``measured_a2_mm`` and ``model_a2_mm`` (the model's at each ratio run).
+        ``reading``, ``measured_a2_mm``, ``model_a2_mm`` (the model's at each ratio run),
+        ``a2_at_ratio_mm`` (its runs' at the fabric's ratio: a check of the reading where they
+        ran at the ratio read) and ``isotropic_nodes`` (the node counts at warp = weft).
     """
     out = Path(out)
     fabrics = [f for f in fabrics if f["fabric"] in matched]
@@ -159,8 +161,10 @@ def study(fabrics, matched: dict, case, seeds: int, out, workers=None, overrides
             runs = iso.get(name, [])
         else:
             runs = at_read.get(name) or calibration.get(f"{name}_r{min(ratios, key=lambda x: abs(x - r)):g}", [])
+        isotropic = table_row(fab, "tensor", B[fab["fabric"]], iso.get(name, []))["model_nodes"]
         table.append({**table_row(fab, "tensor", B[fab["fabric"]], runs), "anisotropy": r, "reading": how,
-                      "measured_a2_mm": float(fab["a2_mm"]), "model_a2_mm": " ".join(f"{a:.1f}" for a in curve)})
+                      "measured_a2_mm": float(fab["a2_mm"]), "model_a2_mm": " ".join(f"{a:.1f}" for a in curve),
+                      "a2_at_ratio_mm": _mean_a2(runs), "isotropic_nodes": isotropic})
     return table
 
 
@@ -168,13 +172,14 @@ def markdown(table: list[dict], ratios=RATIOS) -> str:
     """The study as a markdown table, one line per fabric."""
     head = " / ".join(f"{r:g}" for r in (1.0, *ratios))
     lines = [f"| fabric | measured DC % | nodes measured | a2 mm, scans | a2 mm, model at {head} | "
-             "B_warp/B_weft | model DC % | model nodes | in range |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "B_warp/B_weft | model DC % | model nodes | in range | a2 mm at the ratio | nodes, warp = weft |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in table:
         dc = "–" if r["model_DC"] is None else f"{r['model_DC']:.1f}"
         ratio = {"isotropic": "1 (no sign)", "at least": f"≥ {r['anisotropy']:g}", "no runs": "–"}.get(
             r["reading"], f"{r['anisotropy']:.2f}")
         lines.append(f"| {r['fabric']} | {r['measured_DC']:.1f} ± {r['measured_DC_std']:.1f} | "
                      f"{r['measured_nodes_min']}–{r['measured_nodes_max']} | {r['measured_a2_mm']:.1f} | "
-                     f"{r['model_a2_mm']} | {ratio} | {dc} | {r['model_nodes']} | {r['within']} of {r['runs']} |")
+                     f"{r['model_a2_mm']} | {ratio} | {dc} | {r['model_nodes']} | {r['within']} of {r['runs']} | "
+                     f"{r['a2_at_ratio_mm']:.1f} | {r['isotropic_nodes']} |")
     return "\n".join(lines)

@@ -69,6 +69,9 @@ def test_each_fabric_gets_the_ratio_its_outline_shows(tmp_path, swept):
     assert by["1"]["model_nodes"] == "8 8" and by["3"]["model_nodes"] == "2 2"
     assert by["3"]["within"] == 2 and by["1"]["within"] == 0
     assert by["2"]["model_a2_mm"] == " ".join(f"{a2_law(r):.1f}" for r in (1, 2, 4))
+    # the runs at the ratio read give back the scans' a2 (the stand-in's law is exact)
+    assert by["2"]["a2_at_ratio_mm"] == pytest.approx(a2_law(math.e), rel=1e-5)
+    assert by["3"]["isotropic_nodes"] == "8 8" and by["1"]["a2_at_ratio_mm"] == pytest.approx(2.0)
     text = oa.markdown(table)
     assert "| 1 (no sign) |" in text and "| ≥ 4 |" in text and "| 2.72 |" in text
 
@@ -82,7 +85,7 @@ def test_a_fabric_without_a_finished_isotropic_run_is_not_read(tmp_path, swept):
     # no run at another ratio, nor at a NaN one
     assert not any(name.startswith("fabric09") for folder in ("ratios", "read") for name in swept.get(folder, []))
     assert by["2"]["reading"] == "read"
-    assert "| 9 | 50.0 ± 1.0 | 2–3 | 6.0 | nan | – |" in oa.markdown(table)
+    assert "| 9 | 50.0 ± 1.0 | 2–3 | 6.0 | nan | – | – |  | 0 of 0 | nan |  |" in oa.markdown(table)
 
 
 def test_the_ratio_is_read_on_the_running_maximum():
