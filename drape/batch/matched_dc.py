@@ -30,10 +30,10 @@ from drape.analyses.scan_set import describe_scans, fabric_tables, write_tables
 from drape.batch.rows import SweepRow, read_results
 from drape.batch.sweep import run_sweep
 
-__all__ = ["LAWS", "GRIDS", "START_B", "SLOPE", "fabric_keys", "sweep_row", "read_fabrics", "select_fabrics",
-           "read_start", "sweep", "finished_runs", "dc_curve", "matched_B", "compare", "secant_B",
-           "secant_match", "compare_secant", "table_row", "mode_within", "markdown", "nodes_figure",
-           "write_rows", "write_table"]
+__all__ = ["LAWS", "GRIDS", "START_B", "SLOPE", "fabric_keys", "sweep_row", "read_fabrics",
+           "select_fabrics", "read_start", "sweep", "finished_runs", "node_counts", "dc_curve",
+           "matched_B", "compare", "secant_B", "secant_match", "compare_secant", "table_row",
+           "mode_within", "markdown", "nodes_figure", "write_rows", "write_table"]
 
 #: Friction law → its case overrides.
 LAWS = {"tensor": [], "per_direction": ["model.bending_friction=per_direction"]}
@@ -280,6 +280,11 @@ def _irregularity_mm(recs) -> float | None:
     return round(1e3 * float(np.mean(values)), 2) if values else None
 
 
+def node_counts(records) -> list[int]:
+    """The node counts of the sweep records that have one, in increasing order."""
+    return sorted(int(float(r["nodes"])) for r in records if r.get("nodes"))
+
+
 def table_row(fab: dict, law: str, B, mine: list[dict]) -> dict:
     """One fabric's row of the comparison.
 
@@ -300,7 +305,7 @@ def table_row(fab: dict, law: str, B, mine: list[dict]) -> dict:
         Its measured DC, node range and outline irregularity, the matched B, the model's mean
         DC, node counts, how many of them lie in the measured range, and its irregularity.
     """
-    nodes = sorted(int(float(r["nodes"])) for r in mine if r.get("nodes"))
+    nodes = node_counts(mine)
     lo, hi = int(float(fab["nodes_min"])), int(float(fab["nodes_max"]))
     measured_irregularity = fab.get("irregularity_mm")
     return {"fabric": fab["fabric"], "law": law, "measured_DC": float(fab["dc_mean"]),

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from drape.batch.ensemble import seed_rows
-from drape.batch.matched_dc import fabric_keys, finished_runs, sweep, sweep_row, table_row
+from drape.batch.matched_dc import fabric_keys, finished_runs, node_counts, sweep, sweep_row, table_row
 
 __all__ = ["RATIOS", "read_matched", "run_a2_mm", "ratio_from_a2", "study", "markdown"]
 
@@ -161,10 +161,10 @@ def study(fabrics, matched: dict, case, seeds: int, out, workers=None, overrides
             runs = iso.get(name, [])
         else:
             runs = at_read.get(name) or calibration.get(f"{name}_r{min(ratios, key=lambda x: abs(x - r)):g}", [])
-        isotropic = table_row(fab, "tensor", B[fab["fabric"]], iso.get(name, []))["model_nodes"]
         table.append({**table_row(fab, "tensor", B[fab["fabric"]], runs), "anisotropy": r, "reading": how,
                       "measured_a2_mm": float(fab["a2_mm"]), "model_a2_mm": " ".join(f"{a:.1f}" for a in curve),
-                      "a2_at_ratio_mm": _mean_a2(runs), "isotropic_nodes": isotropic})
+                      "a2_at_ratio_mm": _mean_a2(runs),
+                      "isotropic_nodes": " ".join(map(str, node_counts(iso.get(name, []))))})
     return table
 
 
